@@ -1,0 +1,57 @@
+# Planetary gear FE study pipeline. `make` sets up the virtualenv and runs the main study;
+# `make test` runs the test suite (serial, then the MPI-marked tests under mpiexec -n 2).
+SHELL := /bin/bash
+.DEFAULT_GOAL := all
+
+VENV    := .venv
+PY      := $(VENV)/bin/python
+MPIEXEC := $(VENV)/bin/mpiexec
+STAMP   := $(VENV)/.installed
+RESULTS := results
+
+# First Python >= 3.12 that actually runs: python3.12.. on PATH (a pyenv shim that is not
+# activated fails the check), then pyenv's installed versions.
+FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
+	    $$HOME/.pyenv/versions/3.12*/bin/python3 $$HOME/.pyenv/versions/3.1[3-9]*/bin/python3; do \
+	  if "$$p" -c 'import sys; sys.exit(sys.version_info < (3, 12))' >/dev/null 2>&1; then \
+	    command -v "$$p"; exit 0; fi; done; exit 1
+
+.PHONY: all setup test test-serial test-mpi analytic lint clean help
+
+all: setup analytic ## set up and run the main study
+
+help: ## list the targets
+	@grep -E '^[a-zA-Z0-9_-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-14s %s\n", $$1, $$2}'
+
+setup: $(STAMP) ## create the virtualenv and install pinned dependencies
+
+$(STAMP): pyproject.toml
+	@py=$$($(FIND_PYTHON)) || { echo "error: Python >= 3.12 not found (looked for python3.12+ on PATH and in ~/.pyenv/versions); install python3.12" >&2; exit 1; }; \
+	  echo "using $$py ($$($$py --version))"; \
+	  [ -x $(PY) ] || "$$py" -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[dev]'
+	@touch $@
+
+test: test-serial test-mpi ## run all tests
+
+test-serial: $(STAMP)
+	$(PY) -m pytest -m "not mpi"
+
+# Exit code 5 = no test collected under this marker; not a failure.
+test-mpi: $(STAMP)
+	$(MPIEXEC) -n 2 $(PY) -m pytest -m mpi -p no:cacheprovider -q; rc=$$?; [ $$rc -eq 0 ] || [ $$rc -eq 5 ]
+
+analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md,*.png}
+	$(PY) -m postprocess.analytic --out $(RESULTS)/analytic
+
+lint: $(STAMP) ## ruff
+	$(VENV)/bin/ruff check meshing solvers cases postprocess tests
+	$(VENV)/bin/ruff format --check meshing solvers cases postprocess tests
+
+clean: ## remove results and caches (keeps the virtualenv)
+	rm -rf $(RESULTS) .pytest_cache .ruff_cache
+	find . -name __pycache__ -type d -prune -exec rm -rf {} +
+
+distclean: clean ## also remove the virtualenv
+	rm -rf $(VENV)
