@@ -143,9 +143,7 @@ def parse_gearset(data: dict[str, Any], source: str = "<gearset>") -> GearSet:
         meshes.append(MeshSpec(a, b, _number(m, "centre_distance", where)))
 
     try:
-        shifted = assign_chain_shifts(
-            [gears[p] for p in path], [m.centre_distance for m in meshes]
-        )
+        shifted = assign_chain_shifts([gears[p] for p in path], [m.centre_distance for m in meshes])
     except GeometryError as exc:
         raise CaseError(f"{source}: {exc}") from exc
     gears.update({g.name: g for g in shifted})
