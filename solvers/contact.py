@@ -1,0 +1,534 @@
+"""Penalty contact between elastic bodies, condensed exactly onto the contact grid.
+
+Unknowns: the bodies' reduced displacements u_b (each body its own factorized system), the
+grid forces F_k >= 0 (N; F_k = p_k w_k) and the rigid unknowns r_j (sun rotation, pinion
+spin, a rigid approach: motions held in the FE system and superposed explicitly).
+
+Gap at grid point k (see :mod:`solvers.contact_grid`, :mod:`solvers.gap_operator`):
+
+    g = g0 + sum_b G_b u_b + R r,     R_kj = sigma_k n_k . psi_j(x_k)                (1)
+
+with psi_j the rigid field of unknown j on its body and sigma = +1 (side B) / -1 (side A).
+Penalty: F_k = eps_k w_k max(0, -g_k) with eps_k = factor * E*_k / h_k (N/mm^3), E*_k the
+Hertz contact modulus of the pair (1/E* = (1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b, a rigid
+obstacle contributing 0) and h_k the size of the cells holding point k (the finer side). So
+the penalty layer is ``factor`` times stiffer than an elastic layer of thickness h, and its
+penetration p/eps = p h / (factor E*) is a fraction 1/factor of the local elastic
+deformation scale.
+
+Each body is in equilibrium with its load and the contact forces,
+
+    K_b u_b = f_b + G_b^T F,                                                      (2)
+
+and each rigid unknown balances its generalized load (torque, force) against contact:
+
+    R^T F + f_r = 0.                                                               (3)
+
+Condensation (exact for the penalty method, no approximation): with the compliance
+C = sum_b G_b K_b^{-1} G_b^T (dense, n x n, from ONE factorization per body, multi-RHS
+solves) and the no-contact gaps g_f = sum_b G_b K_b^{-1} f_b, on the active set A
+(F = 0 off A) eqs. (1)-(3) become the small symmetric saddle-point system
+
+    [ C_AA + D_A   R_A ] [F_A]   [ -(g0 + g_f)_A ]
+    [ R_A^T         0  ] [ r ] = [ -f_r          ],   D = diag(1 / (eps_k w_k)),    (4)
+
+(prescribed rigid unknowns move to the right-hand side). This is K + G_A^T E_A G_A condensed
+exactly, so the penalty sweep converges to the eps -> inf limit of the same discrete model.
+The active set is iterated on (4) alone (primal-dual / semismooth Newton for the piecewise
+linear penalty law): A_{i+1} = {k : g_k(F_i, r_i) < 0}, stopping when A repeats; no
+refactorization of any K_b is needed, whatever the number of active-set changes.
+
+Only the columns C[:, A] of points that are or were active are ever used (in (4) and in the
+gaps g = g0 + g_f + C[:, A] F_A + R r), so they are formed on demand, in batches, by MUMPS
+multi-RHS solves with each body's one factorization (``ensure_columns``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
+
+# isort: split
+import numpy as np
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from solvers.contact_grid import ContactGrid
+from solvers.elastic_body import ElasticBody
+from solvers.errors import (
+    ActiveSetError,
+    NoContactError,
+    PenaltyConditioningError,
+    RigidUnknownError,
+)
+from solvers.gap_operator import gap_matrix
+from solvers.rigid_coupling import rigid_modes
+
+#: the penalty is refused when max(eps w) * ||C||_inf exceeds this (cond(C + D) bound)
+MAX_PENALTY_CONDITION = 1e12
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    """A flank pair: grid + the two bodies (FE body or rigid obstacle names)."""
+
+    grid: ContactGrid
+    body_a: str
+    body_b: str
+
+
+@dataclass(frozen=True)
+class RigidUnknown:
+    """A rigid motion solved as an explicit scalar, balanced by contact, eq. (3).
+
+    On an FE body: ``coupling`` and ``dof`` name the reference DOF that is held in the FE
+    system; the superposed field is that DOF's rigid mode about the coupling's x_ref.
+    On a rigid obstacle: ``x_ref`` and ``direction`` (translation) or ``axis`` (rotation).
+    ``load`` is the generalized force (N or N mm) on the mode; ``prescribed`` fixes r instead
+    (displacement control, no balance equation).
+    """
+
+    name: str
+    body: str
+    coupling: str | None = None
+    dof: int | None = None
+    x_ref: Sequence[float] | None = None
+    direction: Sequence[float] | None = None
+    axis: Sequence[float] | None = None
+    load: float = 0.0
+    prescribed: float | None = None
+
+
+@dataclass
+class ContactResult:
+    """Everything the contact solve produced (arrays replicated on every rank)."""
+
+    forces: np.ndarray  # F_k (N)
+    gaps: np.ndarray  # g_k after deformation (mm), eq. (1)
+    active: np.ndarray  # bool
+    rigid: dict[str, float]  # r_j
+    history: list[dict]
+    pairs: list[tuple[str, slice]]  # grid name -> rows
+    penalty: np.ndarray  # eps_k (N/mm^3)
+    displacements: dict[str, PETSc.Vec]  # full displacement per FE body (rigid part included)
+    reduced: dict[str, PETSc.Vec]
+    timings: dict[str, float] = field(default_factory=dict)
+
+    def pressure(self, problem: ContactProblem) -> np.ndarray:
+        return self.forces / problem.weights
+
+
+class ContactProblem:
+    """Bodies + flank pairs + rigid unknowns; see the module docstring for the equations.
+
+    Args:
+        bodies: the FE bodies (set up here if not yet).
+        pairs: flank pairs.
+        rigid_unknowns: explicit rigid motions with their balance equations.
+        obstacles: names of rigid, FE-free counterparts (fixed unless a rigid unknown moves them).
+        penalty_factor: eps = penalty_factor * E* / h.
+        block_size: right-hand sides per MUMPS multi-RHS solve when forming C.
+        eager: form every column of C up front (default: only the columns of points that
+            become active, which is all the active-set loop and the gaps ever use).
+    """
+
+    def __init__(
+        self,
+        bodies: Sequence[ElasticBody],
+        pairs: Sequence[ContactPair],
+        rigid_unknowns: Sequence[RigidUnknown] = (),
+        obstacles: Sequence[str] = (),
+        penalty_factor: float = 100.0,
+        block_size: int | None = None,
+        eager: bool = False,
+    ):
+        self.bodies = {b.name: b for b in bodies}
+        self.comm: MPI.Comm = bodies[0].comm
+        self.pairs = list(pairs)
+        self.rigid_unknowns = list(rigid_unknowns)
+        self.obstacles = set(obstacles)
+        self.penalty_factor = float(penalty_factor)
+        self.block_size = block_size
+        self.eager = eager
+        for p in self.pairs:
+            for nm in (p.body_a, p.body_b):
+                if nm not in self.bodies and nm not in self.obstacles:
+                    raise KeyError(f"pair '{p.grid.name}': unknown body or obstacle '{nm}'")
+        self.gdim = bodies[0].gdim
+        self.offsets = np.cumsum([0] + [p.grid.n for p in self.pairs])
+        self.n = int(self.offsets[-1])
+        self.weights = np.concatenate([np.asarray(p.grid.weights, float) for p in self.pairs])
+        self.gap0 = np.concatenate([np.asarray(p.grid.gap0, float) for p in self.pairs])
+        self.timings: dict[str, float] = {}
+        self._prepared = False
+
+    # ------------------------------------------------------------------ building blocks
+    def _blocks(self, name: str):
+        out = []
+        for i, p in enumerate(self.pairs):
+            if p.body_a == name:
+                out.append((int(self.offsets[i]), p.grid, "a"))
+            if p.body_b == name:
+                out.append((int(self.offsets[i]), p.grid, "b"))
+        return out
+
+    def _mode(self, ru: RigidUnknown):
+        """(x_ref, function x -> psi(x) (m, gdim)) of a rigid unknown."""
+        gdim = self.gdim
+        if ru.body in self.bodies:
+            c = self.bodies[ru.body].couplings[ru.coupling]
+            x_ref = np.asarray(c.x_ref, float)[:gdim]
+            axes = c.frame(gdim)
+            j = ru.dof
+
+            def psi(x):
+                return rigid_modes(x, x_ref, axes)[:, :, j]
+
+            return x_ref, psi
+        x_ref = np.asarray(ru.x_ref if ru.x_ref is not None else np.zeros(gdim), float)[:gdim]
+        if ru.direction is not None:
+            d = np.asarray(ru.direction, float)[:gdim]
+
+            def psi(x):
+                return np.broadcast_to(d, (len(x), gdim)).copy()
+
+            return x_ref, psi
+        a = np.asarray(ru.axis if ru.axis is not None else (0, 0, 1), float)
+
+        def psi(x):
+            dx = np.zeros((len(x), 3))
+            dx[:, :gdim] = x - x_ref
+            return np.cross(a[None, :], dx)[:, :gdim]
+
+        return x_ref, psi
+
+    def _prepare(self) -> None:
+        """Set up bodies, gap operators, no-contact gaps and the compliance C (once)."""
+        if self._prepared:
+            return
+        comm = self.comm
+        t0 = MPI.Wtime()
+        for ru in self.rigid_unknowns:
+            if ru.body in self.bodies:
+                self.bodies[ru.body].hold(ru.coupling, ru.dof)
+            elif ru.body not in self.obstacles:
+                raise KeyError(f"rigid unknown '{ru.name}': unknown body '{ru.body}'")
+        for b in self.bodies.values():
+            b.setup()
+        t1 = MPI.Wtime()
+        self.G: dict[str, PETSc.Mat] = {}
+        h = np.zeros(self.n)
+        for name, b in self.bodies.items():
+            blocks = self._blocks(name)
+            if blocks:
+                self.G[name], hb = gap_matrix(b, blocks, self.n)
+                h = np.where(hb > 0, np.where(h > 0, np.minimum(h, hb), hb), h)
+        self.h = h
+        t2 = MPI.Wtime()
+        # contact modulus per point and penalty
+        estar = np.zeros(self.n)
+        for i, p in enumerate(self.pairs):
+            comp = 0.0
+            for nm in (p.body_a, p.body_b):
+                if nm in self.bodies:
+                    comp += 1.0 / self.bodies[nm].material.e_plane
+            estar[self.offsets[i] : self.offsets[i + 1]] = 1.0 / comp
+        self.estar = estar
+        # no-contact solution and gaps
+        self.u_f = {n: b.solve(b.f_red) for n, b in self.bodies.items()}
+        self.g_f = np.zeros(self.n)
+        for n, G in self.G.items():
+            self.g_f += self._gather(G, self.u_f[n])
+        # rigid columns
+        nr = len(self.rigid_unknowns)
+        self.R = np.zeros((self.n, nr))
+        for j, ru in enumerate(self.rigid_unknowns):
+            _, psi = self._mode(ru)
+            for i, p in enumerate(self.pairs):
+                sl = slice(self.offsets[i], self.offsets[i + 1])
+                nrm = np.asarray(p.grid.normals, float)
+                if p.body_b == ru.body:
+                    self.R[sl, j] += np.einsum("kc,kc->k", nrm, psi(np.asarray(p.grid.x_b)))
+                if p.body_a == ru.body:
+                    self.R[sl, j] -= np.einsum("kc,kc->k", nrm, psi(np.asarray(p.grid.x_a)))
+        t3 = MPI.Wtime()
+        # compliance columns are formed on demand (only for points that ever become active)
+        self.C = np.zeros((self.n, self.n))
+        self.have = np.zeros(self.n, dtype=bool)
+        self.body_rows = {
+            n: np.unique(np.concatenate([np.arange(o, o + g.n) for o, g, _ in self._blocks(n)]))
+            for n in self.G
+        }
+        self.timings.update(
+            setup_bodies=t1 - t0, gap_operator=t2 - t1, free_solve=t3 - t2, compliance=0.0
+        )
+        self.timings["compliance_columns"] = 0
+        if self.eager:
+            self.ensure_columns(np.arange(self.n))
+        self.timings["factorize"] = sum(b.timings["factorize"] for b in self.bodies.values())
+        self._prepared = True
+        comm.Barrier()
+
+    def _gather(self, G: PETSc.Mat, x: PETSc.Vec) -> np.ndarray:
+        """y = G x gathered on every rank."""
+        y = G.createVecLeft()
+        G.mult(x, y)
+        return np.concatenate(self.comm.allgather(y.getArray(readonly=True).copy()))
+
+    def ensure_columns(self, cols: np.ndarray) -> None:
+        """Form the compliance columns C[:, j] = sum_b G_b K_b^{-1} G_b^T e_j not yet formed.
+
+        Collective. Each body's share is one MUMPS multi-RHS solve per block of
+        ``block_size`` columns with the body's single factorization; no refactorization.
+        """
+        cols = np.asarray(cols, dtype=np.int64)
+        new = np.unique(cols[~self.have[cols]])
+        if len(new) == 0:
+            return
+        t0 = MPI.Wtime()
+        for name, G in self.G.items():
+            mine = np.intersect1d(new, self.body_rows[name])
+            if len(mine):
+                self.C[:, mine] += self._compliance(self.bodies[name], G, mine)
+        self.have[new] = True
+        self.timings["compliance"] += MPI.Wtime() - t0
+        self.timings["compliance_columns"] += len(new)
+
+    def _compliance(self, body: ElasticBody, G: PETSc.Mat, cols: np.ndarray) -> np.ndarray:
+        """G K^{-1} G^T [:, cols] (n x len(cols), replicated) by blocks of multi-RHS solves."""
+        comm = self.comm
+        N_red = body.K_red.getSize()[0]
+        # right-hand sides per block: B and X dense N x mb, ~200 MB each at most
+        mb = self.block_size or int(np.clip(2e8 / (8 * max(N_red, 1)), 32, 512))
+        Gt = G.transpose(PETSc.Mat())  # out of place (G.transpose() would overwrite G)
+        r0, r1 = Gt.getOwnershipRange()
+        isrow = PETSc.IS().createStride(r1 - r0, first=r0, step=1, comm=comm)
+        out = np.zeros((self.n, len(cols)))
+        for s in range(0, len(cols), mb):
+            blk = cols[s : s + mb]
+            mine = np.array_split(blk, comm.size)[comm.rank].astype(PETSc.IntType)
+            iscol = PETSc.IS().createGeneral(mine, comm=comm)
+            B = Gt.createSubMatrix(isrow, iscol).convert(PETSc.Mat.Type.DENSE)
+            X = body.solve_dense(B)
+            Y = G.matMult(X)  # (n x len(blk)) dense, rows distributed
+            Yl = Y.getDenseArray(readonly=True).copy()
+            out[:, s : s + len(blk)] = np.vstack(comm.allgather(Yl))
+            for m in (B, X, Y, iscol):
+                m.destroy()
+        Gt.destroy()
+        isrow.destroy()
+        return out
+
+    # ------------------------------------------------------------------ solve
+    def _diag_estimate(self) -> np.ndarray:
+        """Rough self-compliance per point, 1 / (E* h), to pick the stiffest point."""
+        return 1.0 / (self.estar * self.h)
+
+    def _initial_active(self, g_base: np.ndarray, rigid_free: bool) -> np.ndarray:
+        """Starting active set.
+
+        Displacement control: the points already penetrating without contact forces (empty:
+        the open gaps are then the exact answer). Force control (free rigid unknowns): per
+        pair, the points whose no-contact gap is within 10 % of the pair's gap range of its
+        smallest gap, i.e. around where the flanks are closest; the iteration grows or
+        shrinks it from there, and only those points' compliance columns get formed.
+        """
+        if not rigid_free:
+            return g_base < 0
+        A = np.zeros(self.n, dtype=bool)
+        for i in range(len(self.pairs)):
+            sl = slice(self.offsets[i], self.offsets[i + 1])
+            g = g_base[sl]
+            A[sl] = g <= g.min() + 0.1 * (g.max() - g.min())
+        return A | (g_base < 0)
+
+    def penalty(self, factor: float | None = None) -> np.ndarray:
+        """eps_k = factor * E*_k / h_k (N/mm^3)."""
+        f = self.penalty_factor if factor is None else factor
+        return f * self.estar / self.h
+
+    def solve(
+        self,
+        penalty_factor: float | None = None,
+        loads: dict[str, float] | None = None,
+        prescribed: dict[str, float] | None = None,
+        max_iter: int = 60,
+    ) -> ContactResult:
+        """Solve the contact problem; C is formed once and reused for every call.
+
+        ``loads`` / ``prescribed`` override the rigid unknowns' generalized loads or
+        prescribed values by name (a load sweep at no refactorization cost).
+        """
+        self._prepare()
+        t0 = MPI.Wtime()
+        comp0 = self.timings["compliance"]
+        loads = loads or {}
+        prescribed = prescribed or {}
+        eps = self.penalty(penalty_factor)
+        kpen = eps * self.weights  # N/mm per point
+        D = 1.0 / kpen
+        # cheap bound of cond(C_AA + D): lambda_min >= min D, lambda_max <= ||C|| + max D; the
+        # column of the stiffest-penalty point with the largest compliance bounds ||C||
+        k0 = int(np.argmax(kpen * self._diag_estimate()))
+        self.ensure_columns(np.array([k0]))
+        cnorm = np.abs(self.C[:, k0]).sum()
+        if kpen.max() * cnorm > MAX_PENALTY_CONDITION:
+            raise PenaltyConditioningError(
+                f"penalty factor {penalty_factor or self.penalty_factor:.3g} makes the contact "
+                f"system ill-conditioned: max(eps w) * ||C|| = {kpen.max() * cnorm:.3g} > "
+                f"{MAX_PENALTY_CONDITION:.0e} (the penalty layer is that many times stiffer "
+                f"than the bodies); use a factor 10-1000",
+                partial={"penalty": eps},
+            )
+        nr = len(self.rigid_unknowns)
+        pres = np.array(
+            [
+                prescribed.get(ru.name, ru.prescribed)
+                if prescribed.get(ru.name, ru.prescribed) is not None
+                else np.nan
+                for ru in self.rigid_unknowns
+            ]
+        )
+        is_pres = ~np.isnan(pres)
+        free = np.flatnonzero(~is_pres)
+        f_r = np.array([loads.get(ru.name, ru.load) for ru in self.rigid_unknowns])
+        g_base = self.gap0 + self.g_f + (self.R[:, is_pres] @ pres[is_pres] if nr else 0.0)
+        A = self._initial_active(g_base, len(free) > 0)
+        history: list[dict] = []
+        seen = set()
+        F = np.zeros(self.n)
+        r = np.where(is_pres, pres, 0.0)
+        for it in range(max_iter):
+            idx = np.flatnonzero(A)
+            nA, nf = len(idx), len(free)
+            self.ensure_columns(idx)
+            M = np.zeros((nA + nf, nA + nf))
+            M[:nA, :nA] = self.C[np.ix_(idx, idx)] + np.diag(D[idx])
+            Rf = self.R[np.ix_(idx, free)]
+            M[:nA, nA:] = Rf
+            M[nA:, :nA] = Rf.T
+            rhs = np.concatenate([-g_base[idx], -f_r[free]])
+            # the small dense system is solved on rank 0 and broadcast: every rank then holds
+            # bitwise the same iterate and takes the same active-set decisions
+            sol, ok = None, True
+            if self.comm.rank == 0:
+                try:
+                    sol = np.linalg.solve(M, rhs) if len(rhs) else np.zeros(0)
+                    ok = bool(np.all(np.isfinite(sol)))
+                except np.linalg.LinAlgError:
+                    ok = False
+                if nf and nA:
+                    # a rigid unknown with no active point is undetermined
+                    sv = np.linalg.svd(Rf, compute_uv=False)
+                    ok = ok and sv.min() > 1e-12 * max(sv.max(), 1e-300)
+            sol, ok = self.comm.bcast((sol, ok), root=0)
+            if not ok or (nf and nA == 0):
+                undetermined = [
+                    self.rigid_unknowns[j].name
+                    for j in free
+                    if nA == 0 or np.all(np.abs(self.R[idx, j]) < 1e-14)
+                ] or [self.rigid_unknowns[j].name for j in free]
+                raise RigidUnknownError(
+                    f"rigid unknown(s) {undetermined} not determined at active-set iteration "
+                    f"{it}: {nA} active point(s) do not restrain them (flanks not touching "
+                    f"this body, or a mode that contact cannot balance)",
+                    partial={"history": history, "forces": F, "rigid": r},
+                )
+            F = np.zeros(self.n)
+            F[idx] = sol[:nA]
+            r = np.where(is_pres, pres, 0.0)
+            r[free] = sol[nA:]
+            g = self.gap0 + self.g_f + self.C[:, idx] @ F[idx] + self.R @ r
+            A_new = g < 0
+            key = A_new.tobytes()
+            history.append(
+                {
+                    "iteration": it,
+                    "active": int(nA),
+                    "added": int(np.sum(A_new & ~A)),
+                    "removed": int(np.sum(A & ~A_new)),
+                    "min_gap": float(g.min()),
+                    "total_force": float(F.sum()),
+                    "min_force": float(F[idx].min()) if nA else 0.0,
+                }
+            )
+            if np.array_equal(A_new, A):
+                break
+            if key in seen:
+                raise ActiveSetError(
+                    f"contact active set cycles at iteration {it} "
+                    f"(active counts {[h['active'] for h in history]})",
+                    partial={"history": history, "forces": F, "rigid": r},
+                )
+            seen.add(A.tobytes())
+            A = A_new
+            if not np.any(A) and nf == 0:
+                break
+        else:
+            raise ActiveSetError(
+                f"contact active set did not converge in {max_iter} iterations "
+                f"(active counts {[h['active'] for h in history]})",
+                partial={"history": history, "forces": F, "rigid": r},
+            )
+        if not np.any(A):
+            F = np.zeros(self.n)
+            g = self.gap0 + self.g_f + self.R @ r  # the open gaps, without the last iterate
+            k = int(np.argmin(g))
+            pair = self.pairs[int(np.searchsorted(self.offsets, k, side="right") - 1)]
+            raise NoContactError(
+                f"no contact: every grid point stays open under this load (smallest gap "
+                f"{g[k]:.4g} mm on pair '{pair.grid.name}'); the flanks do not touch",
+                partial={"history": history, "gaps": g},
+            )
+        t1 = MPI.Wtime()
+        disp, red = {}, {}
+        for name, b in self.bodies.items():
+            rhs = b.f_red.copy()
+            if name in self.G:
+                Fv = self.G[name].createVecLeft()
+                lo, hi = Fv.getOwnershipRange()
+                Fv.setArray(F[lo:hi])
+                self.G[name].multTransposeAdd(Fv, b.f_red, rhs)
+            x = b.solve(rhs)
+            red[name] = x
+            rig = np.zeros(b.n_own)
+            for j, ru in enumerate(self.rigid_unknowns):
+                if ru.body == name and r[j] != 0:
+                    _, psi = self._mode(ru)
+                    xs = b.dof_x[: b.n_own]
+                    rig += r[j] * psi(xs)[np.arange(b.n_own), b.dof_comp[: b.n_own]]
+            disp[name] = b.expand(x, rig)
+        t2 = MPI.Wtime()
+        names = [p.grid.name for p in self.pairs]
+        sl = [slice(self.offsets[i], self.offsets[i + 1]) for i in range(len(self.pairs))]
+        timings = dict(self.timings)
+        # the compliance columns formed during this solve are reported under "compliance"
+        timings.update(
+            active_set=t1 - t0 - (self.timings["compliance"] - comp0),
+            final_solve=t2 - t1,
+            iterations=len(history),
+        )
+        return ContactResult(
+            forces=F,
+            gaps=g,
+            active=A,
+            rigid={ru.name: float(r[j]) for j, ru in enumerate(self.rigid_unknowns)},
+            history=history,
+            pairs=list(zip(names, sl, strict=True)),
+            penalty=eps,
+            displacements=disp,
+            reduced=red,
+            timings=timings,
+        )
+
+
+def hertz_line(P: float, R: float, e_star: float) -> dict[str, float]:
+    """Hertz line contact (per unit length P, relative radius R, contact modulus E*).
+
+    a = sqrt(4 P R / (pi E*)),  p0 = 2 P / (pi a) = sqrt(P E* / (pi R)).
+    """
+    a = math.sqrt(4 * P * R / (math.pi * e_star))
+    return {"a": a, "p0": 2 * P / (math.pi * a)}
