@@ -16,9 +16,10 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 	  if "$$p" -c 'import sys; sys.exit(sys.version_info < (3, 12))' >/dev/null 2>&1; then \
 	    command -v "$$p"; exit 0; fi; done; exit 1
 
-.PHONY: all setup test test-serial test-mpi analytic lint clean help
+.PHONY: all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
+	distclean help
 
-all: setup analytic ## set up and run the main study
+all: setup analytic meshes ## set up and run the main study
 
 help: ## list the targets
 	@grep -E '^[a-zA-Z0-9_-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-14s %s\n", $$1, $$2}'
@@ -45,12 +46,22 @@ test-mpi: $(STAMP)
 analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md,*.png}
 	$(PY) -m postprocess.analytic --out $(RESULTS)/analytic
 
+meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
+	$(PY) -m meshing --out $(RESULTS)/meshes
+
+bench-mesh: $(STAMP) ## meshing benchmark: results/bench/meshing.json
+	$(PY) -m postprocess.bench_meshing --out $(RESULTS)/bench/meshing.json
+
+bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
+	$(PY) -m postprocess.bench_solver --out $(RESULTS)/bench
+	$(MPIEXEC) -n 2 $(PY) -m postprocess.bench_solver --out $(RESULTS)/bench/mpi2
+
 lint: $(STAMP) ## ruff
 	$(VENV)/bin/ruff check meshing solvers cases postprocess tests
 	$(VENV)/bin/ruff format --check meshing solvers cases postprocess tests
 
-clean: ## remove results and caches (keeps the virtualenv)
-	rm -rf $(RESULTS) .pytest_cache .ruff_cache
+clean: ## remove results and caches, including cached meshes (keeps the virtualenv)
+	rm -rf $(RESULTS) .cache .pytest_cache .ruff_cache
 	find . -name __pycache__ -type d -prune -exec rm -rf {} +
 
 distclean: clean ## also remove the virtualenv
