@@ -158,9 +158,13 @@ def load_gearset(name_or_path: str | Path) -> GearSet:
     if not path.is_file():
         available = ", ".join(sorted(p.stem for p in GEARSET_DIR.glob("*.toml")))
         raise CaseError(f"{path}: no such gear-set file (available: {available})")
+    return parse_gearset(read_toml(path), path.name)
+
+
+def read_toml(path: Path) -> dict[str, Any]:
+    """Parse a case file; a syntax error becomes a :class:`CaseError` naming the file."""
     with path.open("rb") as f:
         try:
-            data = tomllib.load(f)
+            return tomllib.load(f)
         except tomllib.TOMLDecodeError as exc:
             raise CaseError(f"{path.name}: not valid TOML: {exc}") from exc
-    return parse_gearset(data, path.name)

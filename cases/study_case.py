@@ -8,12 +8,11 @@ the field with the allowed range.
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from cases.gearset import CaseError, GearSet, load_gearset
+from cases.gearset import CaseError, GearSet, load_gearset, read_toml
 
 CASE_DIR = Path(__file__).parent
 SCENES = ("one_branch", "all_planets")
@@ -134,9 +133,4 @@ def load_study_case(name_or_path: str | Path) -> StudyCase:
         path = CASE_DIR / f"{name_or_path}.toml"
     if not path.is_file():
         raise CaseError(f"{path}: no such case (available: {', '.join(available_cases())})")
-    with path.open("rb") as f:
-        try:
-            data = tomllib.load(f)
-        except tomllib.TOMLDecodeError as exc:
-            raise CaseError(f"{path.name}: not valid TOML: {exc}") from exc
-    return parse_study_case(data, path.name)
+    return parse_study_case(read_toml(path), path.name)

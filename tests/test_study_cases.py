@@ -62,3 +62,10 @@ def test_missing_section():
 def test_unknown_case_lists_available():
     with pytest.raises(CaseError, match="available: 1-GA, 1-GB, 1-GB-R, 1-GC"):
         load_study_case("1-GZ")
+
+
+def test_toml_syntax_error_names_the_file(tmp_path):
+    bad = tmp_path / "broken.toml"
+    bad.write_text('name = "x"\n[bearing\n')
+    with pytest.raises(CaseError, match=r"broken\.toml: not valid TOML"):
+        load_study_case(bad)
