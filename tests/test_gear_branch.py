@@ -1,0 +1,189 @@
+"""Contact on the real case-1 gear scene: exact contact-line grids and the one-branch model.
+
+P1 at mesh level 0 (about 122k DOFs, ~8 s per position serially on 2 cores). The solve of
+each case is done once per module (fixtures) and shared by the tests.
+"""
+
+import dolfinx_solver  # noqa: F401 - must precede dolfinx
+
+# isort: split
+import math
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from cases.study_case import load_study_case
+from meshing.gear_geometry import involute_deviation
+from meshing.scenes import case1_scene
+from solvers.gear_contact import flank_grid, run_position
+
+T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)
+
+
+def _grids(roll):
+    sc = case1_scene(roll)
+    return sc, [
+        (
+            zn,
+            sc.gear(zn.driver),
+            sc.gear(zn.driven),
+            *flank_grid(zn, sc.gear(zn.driver), sc.gear(zn.driven), 1.0),
+        )
+        for zn in sc.zones
+    ]
+
+
+@pytest.mark.parametrize("roll", [0.0, 0.071])
+def test_grid_on_both_exact_flanks(roll):
+    """(a) Points on both drive flanks, normal = flank normal, inside face width and profile."""
+    _, zones = _grids(roll)
+    for zn, drv, dvn, grid, info in zones:
+        x = grid.x_a
+        # 1e-6 mm: the lines are exact (eq. (1)), the deviation formula is exact; what is left
+        # is round-off of ~100 mm coordinates (~1e-13) - 1e-6 leaves room and still catches a
+        # wrong roll or tooth (a pitch error is ~mm, a helix-sign error ~0.1 mm)
+        da = involute_deviation(drv.gear, drv.placement.inverse(x), zn.driver_side)
+        db = involute_deviation(dvn.gear, dvn.placement.inverse(x), zn.driven_side)
+        assert np.abs(da).max() < 1e-6 and np.abs(db).max() < 1e-6
+        assert np.abs(grid.gap0).max() < 1e-6  # perfect involutes touch on the lines
+        # the normal is the gradient of the exact distance: +n out of the driver's material,
+        # -n out of the driven gear's; central differences with step 1e-4 mm have error
+        # ~ step^2 / rho (rho >= 5 mm) ~ 1e-9, so 1e-6 is a safe bound
+        e = 1e-4
+        ga = np.zeros_like(x)
+        gb = np.zeros_like(x)
+        for c in range(3):
+            dx = np.zeros(3)
+            dx[c] = e
+            ga[:, c] = (
+                involute_deviation(drv.gear, drv.placement.inverse(x + dx), zn.driver_side)
+                - involute_deviation(drv.gear, drv.placement.inverse(x - dx), zn.driver_side)
+            ) / (2 * e)
+            gb[:, c] = (
+                involute_deviation(dvn.gear, dvn.placement.inverse(x + dx), zn.driven_side)
+                - involute_deviation(dvn.gear, dvn.placement.inverse(x - dx), zn.driven_side)
+            ) / (2 * e)
+        assert np.abs(ga - grid.normals).max() < 1e-6
+        assert np.abs(gb + grid.normals).max() < 1e-6
+        # inclined by the base helix angle out of the transverse plane
+        beta_b = drv.gear.base_helix_angle
+        assert np.allclose(np.abs(grid.normals[:, 2]), math.sin(beta_b), atol=1e-12)
+        # inside the common face width and both gears' active profiles (radii)
+        b = min(drv.gear.face_width, dvn.gear.face_width)
+        assert np.abs(x[:, 2]).max() <= 0.5 * b + 1e-12
+        for g in (drv, dvn):
+            r = np.linalg.norm(g.placement.inverse(x)[:, :2], axis=1)
+            lo, hi = sorted((g.gear.form_radius, g.gear.tip_radius))
+            assert r.min() >= lo - 1e-9 and r.max() <= hi + 1e-9
+        # every tooth pair of the scene has a line, spacing ~ h, area = length x width
+        assert len(info.lines) == len(zn.contact_lines)
+        total = sum(ln["length"] for ln in info.lines)
+        assert grid.weights.sum() == pytest.approx(total * 1.0, rel=1e-12)
+        assert all(ln["spacing"] <= 1.5 for ln in info.lines)
+
+
+@pytest.fixture(scope="module")
+def ga():
+    return run_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+
+
+@pytest.fixture(scope="module")
+def gc():
+    return run_position(load_study_case("1-GC"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+
+
+def test_torque_balance_and_ratio(ga):
+    """(b) Statics of the frictionless, carrier-fixed branch."""
+    # the sun rotation is an explicit unknown balanced exactly (eq. (3) of solvers.contact):
+    # only round-off is left, 0.1 % is the brief's bound
+    assert -ga["sun_contact_torque_Nm"] == pytest.approx(T_BRANCH, rel=1e-3)
+    # zero-moment spin equation: round-off against the ~1e3 N m scale of the mesh moments
+    assert abs(ga["pinion_spin_moment_Nm"]) < 1e-6 * abs(ga["My_pin"])
+    # frictionless involutes, carrier fixed: equal normal forces at both meshes (spin
+    # balance with one plane-of-action normal per mesh) and lever arms r_b cos(beta_b), so
+    # T_ring / T_sun = r_b,ring / r_b,sun = Zr / Zs exactly (linearized kinematics: the
+    # error is ~ theta r / r_b ~ 1e-3 at most); 0.5 % as asked
+    assert ga["ring_support_torque_Nm"] / T_BRANCH == pytest.approx(86 / 35, rel=5e-3)
+    assert ga["mesh_normal_force_R_N"] == pytest.approx(ga["mesh_normal_force_S_N"], rel=1e-9)
+    # contact-force and residual resultants agree to round-off (measured ~1e-13)
+    assert ga["resultant_mismatch_rel"] < 1e-9
+    # the bearing carries the analytic pinion force (force balance, no lever arms involved)
+    assert np.allclose(ga["pinion_force_N"], ga["analytic"]["Fpin"], rtol=0, atol=1e-6 * 3e4)
+    # the frame is the paper's: FyS < 0 by construction, and then FzS > 0, FxS > 0, FyR < 0,
+    # FzR < 0 as in Table 3 (a mirrored frame would flip FzS); signs only, magnitudes above
+    fs, fr = ga["FS_pinion_N"], ga["FR_pinion_N"]
+    assert fs[0] > 0 and fs[1] < 0 and fs[2] > 0
+    assert fr[0] < 0 and fr[1] < 0 and fr[2] < 0
+    assert fs[2] == pytest.approx(ga["analytic"]["FzS"], rel=1e-9)
+    # the moment the springs carry (k q) is the contact moment on the pinion
+    assert np.allclose(
+        ga["bearing_spring_moment_Nm"][:2], [ga["Mx_pin"], ga["My_pin"]], rtol=1e-9, atol=1e-9
+    )
+
+
+def _pitch_offset_bound(res):
+    """|moment error| of placing each mesh force at the pitch point instead of the FE load
+    centroid, restricted to the transverse plane (X, Y): |F| * |(dX, dY)| per mesh, N m.
+
+    The analytic model puts both mesh forces at the operating pitch point, mid face width.
+    Evaluated with the FE's own ZS, ZR it keeps the axial position, but the centroid of the
+    forces carried along the contact lines also sits off the pitch point along the line of
+    action (it moves with the mesh position). All forces of one mesh share one normal, so
+    the FE moment is exactly c x F and the difference is (c - c_pitch) x F.
+    """
+    rs, rr = 22.14049, 22.5095  # operating pitch radii of the pinion (Table 3 geometry)
+    cs, cr = np.array(res["centroid_S_mm"]), np.array(res["centroid_R_mm"])
+    ds = math.hypot(cs[0] + rs, cs[1])
+    dr = math.hypot(cr[0] - rr, cr[1])
+    return (res["mesh_normal_force_S_N"] * ds + res["mesh_normal_force_R_N"] * dr) / 1e3
+
+
+def test_moments_against_analytic(ga):
+    """(c) My_pin and the LOA moments against pinion_moments(f, g, ZS, ZR)."""
+    an = ga["analytic"]
+    # My: the axial forces' lever arms differ by the centroid's X offset along the line of
+    # action (measured 1.2 % at roll 0); the goal of 2 % holds
+    assert ga["My_pin"] == pytest.approx(an["My_pin"], rel=0.02)
+    # Mx is small against My (rigid bearing, nearly centred pattern)
+    assert abs(ga["Mx_pin"]) < 0.1 * abs(ga["My_pin"])
+    # LOA moments: 2 % of My plus the pitch-point offset bound (Mx picks up F_z times the
+    # centroid's Y offset, ~1.2 mm at the ring mesh at roll 0: that is the measured 5-7 %)
+    tol = 0.02 * abs(an["My_pin"]) + _pitch_offset_bound(ga)
+    assert abs(ga["M_LOA_sun"] - an["M_LOA_sun"]) < tol
+    assert abs(ga["M_LOA_ring"] - an["M_LOA_ring"]) < tol
+    assert abs(ga["Mx_pin"] - an["Mx_pin"]) < tol
+
+
+def test_bearing_softness_ordering(ga, gc):
+    """(d) singh2007 sections 4 and 7: a softer bearing moves the pattern to -Z at the sun
+    mesh and +Z at the ring mesh, and lowers My_pin and the LOA moments."""
+    assert gc["ZS"] < ga["ZS"] - 1.0  # measured -10.5 vs +0.06 mm: far beyond round-off
+    assert gc["ZR"] > ga["ZR"] + 1.0  # measured +10.4 vs +0.25 mm
+    assert gc["My_pin"] < ga["My_pin"]
+    assert abs(gc["M_LOA_sun"]) < abs(ga["M_LOA_sun"])
+    assert abs(gc["M_LOA_ring"]) < abs(ga["M_LOA_ring"])
+    # the statics hold for any bearing
+    assert -gc["sun_contact_torque_Nm"] == pytest.approx(T_BRANCH, rel=1e-3)
+    assert gc["ring_support_torque_Nm"] / T_BRANCH == pytest.approx(86 / 35, rel=5e-3)
+
+
+KEYS = ("Mx_pin", "My_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring", "ring_support_torque_Nm")
+
+
+@pytest.mark.mpi
+def test_branch_parallel_equals_serial():
+    """(e) 2 ranks vs a serial solve of the same scene (COMM_SELF, identical cached meshes).
+
+    MUMPS on a different partition changes only round-off (measured ~1e-13 relative), so
+    1e-6 is a wide margin. The parallel run goes first so a cold mesh cache is built
+    collectively before the ranks read it alone.
+    """
+    case = load_study_case("1-GA")
+    par = run_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)
+    ser = run_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
+    for k in KEYS:
+        # scale: ZS, ZR are compared against the face width, moments against My
+        scale = 29.0 if k in ("ZS", "ZR") else abs(ser["My_pin"])
+        assert par[k] == pytest.approx(ser[k], rel=1e-6, abs=1e-6 * scale), k
+    assert MPI.COMM_WORLD.allreduce(1) == MPI.COMM_WORLD.size
