@@ -8,6 +8,8 @@ PY      := $(VENV)/bin/python
 MPIEXEC := $(VENV)/bin/mpiexec
 STAMP   := $(VENV)/.installed
 RESULTS := results
+CASE1   := 1-GA 1-GB 1-GC 1-GB-R
+NP      ?= 1
 
 # First Python >= 3.12 that actually runs: python3.12.. on PATH (a pyenv shim that is not
 # activated fails the check), then pyenv's installed versions.
@@ -17,9 +19,9 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 	    command -v "$$p"; exit 0; fi; done; exit 1
 
 .PHONY: all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
-	distclean help
+	distclean help case1 $(CASE1)
 
-all: setup analytic meshes ## set up and run the main study
+all: setup analytic meshes case1 ## set up and run the main study
 
 help: ## list the targets
 	@grep -E '^[a-zA-Z0-9_-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-14s %s\n", $$1, $$2}'
@@ -45,6 +47,12 @@ test-mpi: $(STAMP)
 
 analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md,*.png}
 	$(PY) -m postprocess.analytic --out $(RESULTS)/analytic
+
+# One FE study case: `make 1-GB`; `make 1-GB NP=2` runs it on 2 MPI ranks.
+$(CASE1): $(STAMP)
+	$(MPIEXEC) -n $(NP) $(PY) -m postprocess.case_study $@ --out $(RESULTS)
+
+case1: $(CASE1) ## the four case-1 FE cases: results/<case>/{summary.json,*.png}
 
 meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
 	$(PY) -m meshing --out $(RESULTS)/meshes

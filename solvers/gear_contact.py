@@ -357,7 +357,7 @@ def branch_results(model: BranchModel, result) -> dict:
     p = model.problem
     Q = model.frame
     cp = model.pinion_centre
-    out: dict = {}
+    out: dict = {"pinion_centre_mm": np.asarray(cp, float).tolist(), "frame": Q.tolist()}
     # contact resultants and residual resultants per body
     res = {}
     for name in p.bodies:
