@@ -52,7 +52,8 @@ analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md
 $(CASE1): $(STAMP)
 	$(MPIEXEC) -n $(NP) $(PY) -m postprocess.case_study $@ --out $(RESULTS)
 
-case1: $(CASE1) ## the four case-1 FE cases: results/<case>/{summary.json,*.png}
+case1: $(CASE1) ## the four case-1 FE cases and their report: results/case1/report.md
+	$(PY) -m postprocess.case1_report --results $(RESULTS)
 
 meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
 	$(PY) -m meshing --out $(RESULTS)/meshes

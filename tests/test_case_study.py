@@ -86,3 +86,14 @@ def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     assert [p["roll"] for p in kept["positions"]] == [0.0]
     assert kept["failed_positions"][0]["position"] == 1
     assert "did not converge" in kept["failed_positions"][0]["error"]
+
+
+def test_case1_report(study):
+    from postprocess.case1_report import write_report
+
+    out, summary = study
+    text = write_report(out).read_text()
+    assert f"| 1-GA | 0 | {N_POS} | {summary['dofs']} |" in text
+    assert "My_pin" in text and "Rigid bearing" in text
+    for name in ("moments_vs_tilt.png", "offsets_vs_tilt.png"):
+        assert (out / "case1" / name).stat().st_size > 10_000

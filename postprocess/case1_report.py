@@ -1,0 +1,176 @@
+"""Case-1 report: the four single-pinion FE cases side by side with the analytical model.
+
+    python -m postprocess.case1_report --results results
+
+Reads ``results/<case>/summary.json`` of 1-GA, 1-GB, 1-GC and 1-GB-R (whatever has been
+run) and writes ``results/case1/report.md`` with: the FE means over the mesh positions, the
+analytical values (singh2007 Table 3 concentrated load, and Table 7 evaluated with each
+case's own ZS, ZR) and their differences; the plots ``moments_vs_tilt.png`` (My_pin and the
+LOA moments against the bearing tilting stiffness) and ``offsets_vs_tilt.png`` (ZS, ZR);
+and links to each case's contact-pattern panel.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+from cases.study_case import load_study_case
+
+CASES = ("1-GA", "1-GB", "1-GC", "1-GB-R")
+MOMENTS = ("Mx_pin", "My_pin", "M_LOA_sun", "M_LOA_ring")
+
+
+def _load(results: Path) -> dict[str, dict]:
+    out = {}
+    for name in CASES:
+        path = results / name / "summary.json"
+        if path.is_file():
+            out[name] = json.loads(path.read_text())
+    return out
+
+
+def _pct(fe: float, ref: float) -> str:
+    return f"{100 * (fe - ref) / abs(ref):+.1f} %" if abs(ref) > 1e-9 else "-"
+
+
+def write_report(results: Path) -> Path:
+    runs = _load(results)
+    if not runs:
+        raise FileNotFoundError(f"no case-1 summary under {results}: run `make case1` first")
+    out = results / "case1"
+    out.mkdir(parents=True, exist_ok=True)
+    tilt = {n: load_study_case(n).bearing.tilting_stiffness for n in runs}
+    lines = [
+        "# Case 1, single pinion: FE against the analytical model (singh2007)",
+        "",
+        "Means over the mesh positions of each case (`results/<case>/summary.json`). Moments",
+        "N m in the paper's pinion frame, ZS/ZR mm from mid face width (positive +Z), stresses",
+        "MPa. `Table 7 @ FE Z` is the analytical model evaluated with the case's own ZS, ZR;",
+        "`Table 3` the concentrated load at mid face width.",
+        "",
+        "| case | level | positions | DOFs | ZS | ZR | quantity | FE | Table 7 @ FE Z | diff"
+        " | Table 3 | diff |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, s in runs.items():
+        head = (f"| {name} | {s['level']} | {len(s['positions'])} | {s['dofs']} | "
+                f"{s['ZS']:+.2f} | {s['ZR']:+.2f} ")  # fmt: skip
+        for i, q in enumerate(MOMENTS):
+            at_z, conc = s["analytic"]["at_fe_ZS_ZR"][q], s["analytic"]["concentrated"][q]
+            first = head if i == 0 else "| | | | | | "
+            lines.append(
+                f"{first}| {q} | {s[q]:.1f} | {at_z:.1f} | {_pct(s[q], at_z)} | {conc:.1f} | "
+                f"{_pct(s[q], conc)} |"
+            )
+    lines += [
+        "",
+        "## Stresses",
+        "",
+        "Contact stress: Hertz line contact with the exact normal-plane curvatures at each grid",
+        "point and the FE line load there; `peak` is the largest over the grid (it sits at line",
+        "ends: tip and face corners, no relief modelled), `mean` the mean over loaded points.",
+        "Root stress from the FE field is not computed yet; the ISO 6336-3 method B nominal",
+        "stress (all K factors 1, Y_beta of the 2006 edition) is listed for reference.",
+        "",
+        "| case | contact sun-pinion peak / mean | contact pinion-ring peak / mean |"
+        " ISO root sun | ISO root pinion (sun side) | ISO root pinion (ring side) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, s in runs.items():
+        c, m, b = s["contact_stress"], s["contact_stress_mean_loaded"], s[
+            "bending_stress_iso6336_nominal"]  # fmt: skip
+        lines.append(
+            f"| {name} | {c['sun_pinion']:.0f} / {m['sun_pinion']:.0f} | "
+            f"{c['pinion_ring']:.0f} / {m['pinion_ring']:.0f} | {b['sun']:.0f} | "
+            f"{b['pinion_sun_side']:.0f} | {b['pinion_ring_side']:.0f} |"
+        )
+    lines += ["", "## Trends against the paper (section 7)", ""]
+    lines += _trends(runs)
+    lines += ["", "## Plots", "", "![moments](moments_vs_tilt.png)", "",
+              "![offsets](offsets_vs_tilt.png)", "", "Contact patterns:", ""]  # fmt: skip
+    lines += [f"- {n}: ![{n}](../{n}/contact_patterns.png)" for n in runs]
+    _plots(runs, tilt, out)
+    path = out / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _series(label: str, values: list[float], fmt: str, holds: bool) -> str:
+    chain = " -> ".join(format(v, fmt) for v in values)
+    return f"- {label} ({chain}): {'yes' if holds else 'NO'}."
+
+
+def _trends(runs: dict) -> list[str]:
+    """The paper's stated trends, checked on our numbers (a sentence each, true or not)."""
+    out = []
+    steel = [n for n in ("1-GA", "1-GB", "1-GC") if n in runs]
+    if len(steel) >= 2:
+        zs, zr, my = ([runs[n][q] for n in steel] for q in ("ZS", "ZR", "My_pin"))
+        falls = lambda v: all(a > b for a, b in itertools.pairwise(v))  # noqa: E731
+        out.append(
+            _series("Softer bearing moves the sun-mesh load to -Z, ZS", zs, "+.2f", falls(zs))
+        )
+        out.append(_series("... and the ring-mesh load to +Z, ZR", zr, "+.2f", falls(zr[::-1])))
+        out.append(_series("My_pin falls as the bearing softens", my, ".1f", falls(my)))
+    if "1-GB" in runs and "1-GB-R" in runs:
+        gb, gr = runs["1-GB"], runs["1-GB-R"]
+        offsets = [abs(gb["ZS"]), abs(gr["ZS"]), abs(gb["ZR"]), abs(gr["ZR"])]
+        more = offsets[1] > offsets[0] and offsets[3] > offsets[2]
+        label = "10x stiffer gears shift the pattern more, |ZS| GB, GB-R, |ZR| GB, GB-R"
+        out.append(_series(label, offsets, ".2f", more))
+    if "1-GA" in runs:
+        a = runs["1-GA"]
+        out.append(
+            f"- Rigid bearing: ZS {a['ZS']:+.2f}, ZR {a['ZR']:+.2f} mm; My_pin {a['My_pin']:.1f}"
+            f" against Table 3 {a['analytic']['concentrated']['My_pin']:.1f} N m."
+        )
+    return out
+
+
+def _plots(runs: dict, tilt: dict, out: Path) -> None:
+    steel = [n for n in ("1-GA", "1-GB", "1-GC") if n in runs]
+    k = [tilt[n] for n in steel]
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    for q, mk in zip(MOMENTS, "osd^", strict=True):
+        ax.semilogx(k, [runs[n][q] for n in steel], marker=mk, label=f"{q} (FE, steel)")
+        if "1-GB-R" in runs:
+            ax.plot(tilt["1-GB-R"], runs["1-GB-R"][q], marker=mk, color="k", ls="none")
+    ax.axhline(0, color="0.6", lw=0.8)
+    ax.set_xlabel("bearing tilting stiffness (N mm/rad)")
+    ax.set_ylabel("moment (N m)")
+    ax.set_title("Case 1 pinion moments (black: 1-GB-R, gears 10x steel)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "moments_vs_tilt.png", dpi=130)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    for q, mk in (("ZS", "o"), ("ZR", "s")):
+        ax.semilogx(k, [runs[n][q] for n in steel], marker=mk, label=f"{q} (FE, steel)")
+        if "1-GB-R" in runs:
+            ax.plot(tilt["1-GB-R"], runs["1-GB-R"][q], marker=mk, color="k", ls="none")
+    ax.axhline(0, color="0.6", lw=0.8)
+    ax.set_xlabel("bearing tilting stiffness (N mm/rad)")
+    ax.set_ylabel("load centroid offset from mid face (mm)")
+    ax.set_title("Case 1 load centroids (black: 1-GB-R)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "offsets_vs_tilt.png", dpi=130)
+    plt.close(fig)
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--results", type=Path, default=Path("results"))
+    print(write_report(ap.parse_args(argv).results))
+
+
+if __name__ == "__main__":
+    main()
