@@ -6,7 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from meshing.gear_geometry import GearPair, GearSpec, assign_chain_shifts
+from cases.gearset import load_gearset
+from meshing.gear_geometry import GearPair, GearSpec
 from postprocess.contact_stress import (
     contact_modulus,
     flank_curvatures,
@@ -24,14 +25,9 @@ TORQUE = 459.57e3  # N mm on the sun per mesh (singh2007.md section 1)
 
 @pytest.fixture(scope="module")
 def case1():
-    """singh2007 case 1 meshes with the pipeline's shifts: (sun-pinion, pinion-ring)."""
-    gears = [
-        GearSpec("sun", 35, hand="R", face_width=32.35, **COMMON),
-        GearSpec("pinion", 26, hand="L", face_width=29.00, **COMMON),
-        GearSpec("ring", 86, hand="L", face_width=32.00, internal=True, **COMMON),
-    ]
-    sun, pinion, ring = assign_chain_shifts(gears, [51.945, 51.945])
-    return GearPair(sun, pinion, 51.945), GearPair(pinion, ring, 51.945)
+    """singh2007 case 1 meshes from cases/gearsets/case1.toml: (sun-pinion, pinion-ring)."""
+    gs = load_gearset("case1")
+    return gs.pair("sun", "pinion"), gs.pair("pinion", "ring")
 
 
 def test_nafems_cylinder_on_plane():

@@ -6,7 +6,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from meshing.gear_geometry import GearPair, GearSpec, assign_chain_shifts
+from cases.gearset import load_gearset
+from meshing.gear_geometry import GearPair, GearSpec
 from postprocess.contact_stress import path_of_contact, pitch_roll
 from postprocess.root_stress_iso6336 import (
     fillet_tangent_point,
@@ -29,13 +30,9 @@ def spur(z, x=0.0, m=1.0):
 
 @pytest.fixture(scope="module")
 def case1():
-    gears = [
-        GearSpec("sun", 35, hand="R", face_width=32.35, **COMMON),
-        GearSpec("pinion", 26, hand="L", face_width=29.00, **COMMON),
-        GearSpec("ring", 86, hand="L", face_width=32.00, internal=True, **COMMON),
-    ]
-    sun, pinion, ring = assign_chain_shifts(gears, [51.945, 51.945])
-    return GearPair(sun, pinion, 51.945), GearPair(pinion, ring, 51.945)
+    """singh2007 case 1 meshes from cases/gearsets/case1.toml: (sun-pinion, pinion-ring)."""
+    gs = load_gearset("case1")
+    return gs.pair("sun", "pinion"), gs.pair("pinion", "ring")
 
 
 # Tip-load form and stress correction factors Y_Fa, Y_Sa of the standard textbook table for
