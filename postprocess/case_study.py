@@ -7,13 +7,15 @@ The case (``cases/<name>.toml``) is solved at N mesh positions over one base pit
 angles k (2 pi / Z_sun) / N, k = 0..N-1, with the carrier fixed. Each position is written to
 ``results/<case>/positions/<k>.json`` as soon as it is solved and reused by a later run of
 the same level and degree, so a study that fails part way keeps what it finished.
-``summary.json`` holds the means over the positions at the top level (Mx_pin, My_pin,
-Mz_pin, ZS, ZR, M_LOA_sun, M_LOA_ring; N m, mm, paper's pinion frame of singh2007 section 3),
-the per-position values, the analytical model (Table 3 concentrated load, and Table 7 at
-the FE's own ZS, ZR), and the contact stress from Hertz line contact with the exact local
-curvatures and the FE line load at every grid point (``postprocess.contact_stress``).
-Root stress from the FE field at the fillets is not computed yet: ``bending_stress`` holds
-the ISO 6336-3 method B nominal values for reference, labelled as such.
+The displacement of every body at the first position is written as VTX to
+``results/<case>/fields/<body>.bp`` (open in ParaView). ``summary.json`` holds the means
+over the positions at the top level (Mx_pin, My_pin, Mz_pin, ZS, ZR, M_LOA_sun, M_LOA_ring;
+N m, mm, paper's pinion frame of singh2007 section 3), the per-position values, the
+analytical model (Table 3 concentrated load, and Table 7 at the FE's own ZS, ZR), and the
+contact stress from Hertz line contact with the exact local curvatures and the FE line load
+at every grid point (``postprocess.contact_stress``).
+Root stress from the FE field at the fillets is not computed yet: ``bending_stress`` is null
+and ``bending_stress_iso6336_nominal`` holds the ISO 6336-3 method B values for reference.
 """
 
 from __future__ import annotations
@@ -147,7 +149,9 @@ def run_case(
             pos = old if same else None
         if pos is None:
             try:
-                pos = run_position(case, roll, comm, level=level, degree=DEGREE)
+                # displacement fields (VTX, for ParaView) of the first position only
+                vtx = out / "fields" if k == 0 else None
+                pos = run_position(case, roll, comm, vtx_dir=vtx, level=level, degree=DEGREE)
             except Exception as exc:  # keep going: finished positions stay on disk
                 failed.append({"position": k, "roll": roll, "error": repr(exc)})
                 if comm.rank == 0:

@@ -68,6 +68,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
 
@@ -78,7 +79,7 @@ from mpi4py import MPI
 from solvers.contact import ContactPair, ContactProblem, RigidUnknown
 from solvers.contact_grid import ContactGrid
 from solvers.elastic_body import Dirichlet, ElasticBody, Material
-from solvers.results import contact_resultant, line_load, residual_resultant
+from solvers.results import contact_resultant, line_load, residual_resultant, write_vtx
 from solvers.rigid_coupling import RigidCoupling, bearing
 
 
@@ -440,12 +441,21 @@ def branch_results(model: BranchModel, result) -> dict:
     return out
 
 
-def run_position(case, roll_angle: float = 0.0, comm: MPI.Comm = MPI.COMM_WORLD, **kw) -> dict:
-    """Build, solve and summarise one mesh position (collective; dict on every rank)."""
+def run_position(
+    case,
+    roll_angle: float = 0.0,
+    comm: MPI.Comm = MPI.COMM_WORLD,
+    vtx_dir: str | Path | None = None,
+    **kw,
+) -> dict:
+    """Build, solve and summarise one mesh position (collective; dict on every rank).
+    ``vtx_dir``: also write every body's displacement there as VTX (``<body>.bp``)."""
     t0 = time.perf_counter()
     model = build_branch(case, roll_angle, comm, **kw)
     result = model.problem.solve()
     t1 = time.perf_counter()
+    if vtx_dir is not None:
+        write_vtx(vtx_dir, model.problem, result)
     out = branch_results(model, result)
     out.update(
         case=case.name,
