@@ -19,7 +19,7 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 	    command -v "$$p"; exit 0; fi; done; exit 1
 
 .PHONY: all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
-	distclean help case1 $(CASE1)
+	distclean help case1 $(CASE1) bench-case1
 
 all: setup analytic meshes case1 ## set up and run the main study
 
@@ -64,6 +64,11 @@ bench-mesh: $(STAMP) ## meshing benchmark: results/bench/meshing.json
 bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
 	$(PY) -m postprocess.bench_solver --out $(RESULTS)/bench
 	$(MPIEXEC) -n 2 $(PY) -m postprocess.bench_solver --out $(RESULTS)/bench/mpi2
+
+# Peaks at about 14 GB in the level-0 P2 run; drop `--extra 0:2` on a smaller machine.
+bench-case1: $(STAMP) ## case 1 speed against error (1-GB): results/bench/case1_speed_error.{json,png}
+	$(PY) -m postprocess.bench_case1 --out $(RESULTS)/bench --case 1-GB --levels 0 1 2 \
+	  --degrees 1 --extra 0:2
 
 lint: $(STAMP) ## ruff
 	$(VENV)/bin/ruff check meshing solvers cases postprocess tests
