@@ -144,35 +144,33 @@ def _trends(runs: dict) -> list[str]:
     return out
 
 
-def _plots(runs: dict, tilt: dict, out: Path) -> None:
+def _plot_against_tilt(runs, tilt, quantities, ylabel, title, path: Path) -> None:
+    """Quantities of the steel cases against the tilting stiffness; 1-GB-R in black."""
     steel = [n for n in ("1-GA", "1-GB", "1-GC") if n in runs]
-    k = [tilt[n] for n in steel]
     fig, ax = plt.subplots(figsize=(7, 4.2))
-    for q, mk in zip(MOMENTS, "osd^", strict=True):
-        ax.semilogx(k, [runs[n][q] for n in steel], marker=mk, label=f"{q} (FE, steel)")
+    for q, mk in zip(quantities, "osd^", strict=False):
+        ax.semilogx([tilt[n] for n in steel], [runs[n][q] for n in steel], marker=mk,
+                    label=f"{q} (FE, steel)")  # fmt: skip
         if "1-GB-R" in runs:
             ax.plot(tilt["1-GB-R"], runs["1-GB-R"][q], marker=mk, color="k", ls="none")
     ax.axhline(0, color="0.6", lw=0.8)
     ax.set_xlabel("bearing tilting stiffness (N mm/rad)")
-    ax.set_ylabel("moment (N m)")
-    ax.set_title("Case 1 pinion moments (black: 1-GB-R, gears 10x steel)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out / "moments_vs_tilt.png", dpi=130)
+    fig.savefig(path, dpi=130)
     plt.close(fig)
-    fig, ax = plt.subplots(figsize=(7, 4.2))
-    for q, mk in (("ZS", "o"), ("ZR", "s")):
-        ax.semilogx(k, [runs[n][q] for n in steel], marker=mk, label=f"{q} (FE, steel)")
-        if "1-GB-R" in runs:
-            ax.plot(tilt["1-GB-R"], runs["1-GB-R"][q], marker=mk, color="k", ls="none")
-    ax.axhline(0, color="0.6", lw=0.8)
-    ax.set_xlabel("bearing tilting stiffness (N mm/rad)")
-    ax.set_ylabel("load centroid offset from mid face (mm)")
-    ax.set_title("Case 1 load centroids (black: 1-GB-R)")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "offsets_vs_tilt.png", dpi=130)
-    plt.close(fig)
+
+
+def _plots(runs: dict, tilt: dict, out: Path) -> None:
+    moments_title = "Case 1 pinion moments (black: 1-GB-R, gears 10x steel)"
+    _plot_against_tilt(runs, tilt, MOMENTS, "moment (N m)", moments_title,
+                       out / "moments_vs_tilt.png")  # fmt: skip
+    offsets_label = "load centroid offset from mid face (mm)"
+    _plot_against_tilt(runs, tilt, ("ZS", "ZR"), offsets_label,
+                       "Case 1 load centroids (black: 1-GB-R)",
+                       out / "offsets_vs_tilt.png")  # fmt: skip
 
 
 def main(argv=None) -> None:
