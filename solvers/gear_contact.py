@@ -57,7 +57,9 @@ For case 1 this gives Y = -y, Z = -z (a 180 deg turn about X, not a mirror), and
 FzS > 0 as in Table 3 (checked). Mx_pin, My_pin, Mz_pin (N m) = moment of the contact
 forces on the pinion about its centre = the moment the bearing carries (also read from the
 bearing springs, k q, and from the residual). ZS, ZR = force-weighted Z of the contact
-points at each mesh (mm from mid face width).
+points at each mesh (mm from mid face width). ``bending_stress``: the largest maximum
+principal stress (MPa) of the FE field in the cells at the root fillets of the loaded teeth,
+per gear (the pinion per mesh), with its location (:mod:`solvers.root_stress`).
 """
 
 from __future__ import annotations
@@ -81,6 +83,7 @@ from solvers.contact_grid import ContactGrid
 from solvers.elastic_body import Dirichlet, ElasticBody, Material
 from solvers.results import contact_resultant, line_load, residual_resultant, write_vtx
 from solvers.rigid_coupling import RigidCoupling, bearing
+from solvers.root_stress import root_stress
 
 
 # ---------------------------------------------------------------------------- grid
@@ -457,6 +460,7 @@ def run_position(
     if vtx_dir is not None:
         write_vtx(vtx_dir, model.problem, result)
     out = branch_results(model, result)
+    out["bending_stress"] = root_stress(model, result)
     out.update(
         case=case.name,
         roll=roll_angle,

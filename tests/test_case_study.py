@@ -39,12 +39,16 @@ def test_summary_contract(study):
     assert set(summary["contact_stress"]) == {"sun_pinion", "pinion_ring"}
     assert set(summary["bending_stress_iso6336_nominal"]) == {
         "sun", "pinion_sun_side", "pinion_ring_side", "ring"}  # fmt: skip
+    for key in ("sun", "pinion_sun_side", "pinion_ring_side", "ring"):
+        values = [p["bending_stress"][key] for p in summary["positions"]]
+        assert summary["bending_stress"][key] == pytest.approx(sum(values) / N_POS, rel=1e-12)
+        assert summary["bending_stress"][key] > 0
     assert summary["level"] == 0 and summary["dofs"] > 0 and summary["failed_positions"] == []
     # displacement fields of the first position for ParaView, one VTX folder per body
     assert sorted(p.name for p in (out / "1-GA" / "fields").iterdir()) == [
         "pinion.bp", "ring.bp", "sun.bp"]  # fmt: skip
     for name in ("contact_pattern_sun-pinion.png", "contact_pattern_pinion-ring.png",
-                 "contact_patterns.png"):  # fmt: skip
+                 "contact_patterns.png", "loaded_scene.png"):  # fmt: skip
         assert (out / "1-GA" / name).stat().st_size > 10_000
 
 

@@ -1,0 +1,53 @@
+"""3D picture of a loaded scene: the gear surfaces with the contact-line loads of one solved
+mesh position drawn on the flanks (off-screen pyvista), for a person to see where the load
+sits on the face width and which tooth pairs carry it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from meshing.build import scene_mesh_file
+from meshing.pictures import _COLOURS, surface_polydata
+from meshing.scenes import case1_scene
+
+
+def loaded_scene_picture(pos: dict, png_path: Path, title: str) -> Path:
+    """PNG of the case-1 one-branch scene at ``pos["roll"]`` (level ``pos["level"]``), with
+    every contact grid point of both meshes as a sphere coloured by its line load (N/mm).
+    Serial: call on one rank (the body meshes are already cached by the solve)."""
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    msh, _ = scene_mesh_file(case1_scene(roll=pos["roll"]), pos["level"])
+    poly, bodies = surface_polydata(Path(msh))
+    x = np.vstack([np.asarray(pos[f"points_{k}"]["x_mm"]) for k in ("S", "R")])
+    w = np.concatenate(
+        [np.clip(pos[f"points_{k}"]["line_load_N_per_mm"], 0.0, None) for k in ("S", "R")]
+    )
+    cloud = pv.PolyData(x)
+    cloud["line load (N/mm)"] = w
+    plotter = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1800, 900))
+    for col, view in enumerate(("iso", "xy")):
+        plotter.subplot(0, col)
+        for i, body in enumerate(bodies):
+            part = poly.extract_cells(np.flatnonzero(poly.cell_data["body"] == i))
+            plotter.add_mesh(part, color=_COLOURS[i % len(_COLOURS)], opacity=0.35, label=body)
+        plotter.add_mesh(
+            cloud, scalars="line load (N/mm)", cmap="inferno_r", point_size=9,
+            render_points_as_spheres=True, clim=(0.0, max(float(w.max()), 1.0)),
+        )  # fmt: skip
+        if view == "xy":
+            plotter.view_xy()
+            plotter.add_text("from +z (scene frame)", font_size=10)
+        else:
+            plotter.view_isometric()
+            plotter.add_text(title, font_size=10)
+            plotter.add_legend(bcolor="white", size=(0.15, 0.12))
+        plotter.show_axes()
+    png_path = Path(png_path)
+    png_path.parent.mkdir(parents=True, exist_ok=True)
+    plotter.screenshot(str(png_path))
+    plotter.close()
+    return png_path
