@@ -102,6 +102,11 @@ def scene_picture(
             plotter.view_isometric()
             plotter.add_text("oblique view (mesh edges)", font_size=10)
         plotter.show_axes()
+    return save_screenshot(plotter, png_path)
+
+
+def save_screenshot(plotter, png_path: Path) -> Path:
+    """Write the plotter's picture to ``png_path`` (folders made as needed) and close it."""
     png_path = Path(png_path)
     png_path.parent.mkdir(parents=True, exist_ok=True)
     plotter.screenshot(str(png_path))

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from meshing.build import scene_mesh_file
-from meshing.pictures import _COLOURS, surface_polydata
+from meshing.pictures import _COLOURS, save_screenshot, surface_polydata
 from meshing.scenes import case1_scene
 
 
@@ -46,8 +46,4 @@ def loaded_scene_picture(pos: dict, png_path: Path, title: str) -> Path:
             plotter.add_text(title, font_size=10)
             plotter.add_legend(bcolor="white", size=(0.15, 0.12))
         plotter.show_axes()
-    png_path = Path(png_path)
-    png_path.parent.mkdir(parents=True, exist_ok=True)
-    plotter.screenshot(str(png_path))
-    plotter.close()
-    return png_path
+    return save_screenshot(plotter, png_path)
