@@ -1,0 +1,99 @@
+"""One branch of the case-2 double pinion planetary (sun, SP, RP, ring) on the FE contact model.
+
+P1 at mesh level 0 (about 188k DOFs, ~13 s per case serially). Each case is solved once per
+module (fixtures) and shared by the tests.
+"""
+
+import dolfinx_solver  # noqa: F401 - must precede dolfinx
+
+# isort: split
+import math
+
+import pytest
+from mpi4py import MPI
+
+from cases.study_case import load_study_case
+from solvers.double_pinion_branch import run_position_double
+
+T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)
+Z_SUN, Z_RING = 35, 92
+FACE_PINION = 29.0  # mm, SP and RP face width
+
+
+@pytest.fixture(scope="module")
+def ga():
+    return run_position_double(load_study_case("2B-GA"), 0.0, MPI.COMM_WORLD, level=0)
+
+
+@pytest.fixture(scope="module")
+def gb():
+    return run_position_double(load_study_case("2B-GB"), 0.0, MPI.COMM_WORLD, level=0)
+
+
+@pytest.mark.parametrize("name", ["ga", "gb"])
+def test_torque_balance_and_ratio(name, request):
+    """Sun torque = applied; pinions free to spin; ring / sun = Z_ring / Z_sun (carrier held,
+    frictionless involutes: the ratio is exact up to the small-rotation linearization)."""
+    r = request.getfixturevalue(name)
+    assert r["sun_torque_applied_Nm"] == pytest.approx(T_BRANCH, rel=1e-12)
+    assert -r["sun_contact_torque_Nm"] == pytest.approx(T_BRANCH, rel=1e-3)
+    for pn in ("SP", "RP"):
+        # spin moment: rigid-unknown equation solved exactly; round-off of N mm sums
+        assert abs(r[f"{pn}_spin_moment_Nm"]) < 1e-6 * T_BRANCH
+        assert abs(r[f"Mz_{pn}"]) < 1e-6 * T_BRANCH
+    ratio = r["ring_contact_torque_Nm"] / -r["sun_contact_torque_Nm"]
+    assert ratio == pytest.approx(Z_RING / Z_SUN, rel=5e-3)
+    assert r["ring_support_torque_Nm"] == pytest.approx(-r["ring_contact_torque_Nm"], rel=1e-9)
+    assert r["resultant_mismatch_rel"] < 1e-9
+
+
+@pytest.mark.parametrize("name", ["ga", "gb"])
+def test_axial_force_signs_match_closed_form(name, request):
+    """In the pinion frames (Z = -z) the FE axial mesh forces have the section-5 signs and
+    magnitudes: FzSUN = -FzRP = FzSP = -FzRING = FA (a force balance, so to round-off)."""
+    r = request.getfixturevalue(name)
+    a = r["analytic"]
+    for key in ("FzSUN", "FzRP", "FzSP", "FzRING"):
+        assert r[f"{key}_fe"] == pytest.approx(a[key], rel=1e-6)
+    assert a["FzSUN"] > 0 and a["FzSP"] > 0 and a["FzRP"] < 0 and a["FzRING"] < 0
+
+
+def test_bearing_moments_vs_table5(ga):
+    """2B-GA (rigid bearing): SP and RP (Mx, My) and the four LOA moments near Table 5 2-B.
+
+    Tolerances. Against the closed form with the forces moved to the FE's own centroid
+    offsets Z (pitch point + Z e_Z): My within 2 % (the case-1 experience); Mx within 5 %,
+    because the FE centroid also sits off the pitch point along the transverse line of action
+    (``loa_offset_*``: 0.09-0.18 mm, RP-ring 0.64 mm) and the axial force there adds to Mx
+    (measured: SP 0.9 %, RP 3.5 %). Against Table 5 itself (concentrated load at the pitch
+    points, Z = 0) the FE is a few % off (measured 3-6 %); 8 % bounds it, signs must agree.
+    """
+    t5 = ga["analytic"]["table5"]
+    sh = ga["analytic"]["at_fe_centroids"]
+    for pn in ("SP", "RP"):
+        assert ga[f"My_{pn}"] == pytest.approx(sh[f"My_{pn}"], rel=0.02)
+        assert ga[f"Mx_{pn}"] == pytest.approx(sh[f"Mx_{pn}"], rel=0.05)
+        for c in ("Mx", "My"):
+            assert ga[f"{c}_{pn}"] == pytest.approx(t5[f"{c}_{pn}"], rel=0.08)
+        # the bearing carries the contact moment (springs k q)
+        mb = ga[f"{pn}_bearing_spring_moment_Nm"]
+        assert mb[0] == pytest.approx(ga[f"Mx_{pn}"], rel=1e-6)
+        assert mb[1] == pytest.approx(ga[f"My_{pn}"], rel=1e-6)
+    for key in ("M_LOA_SP_SUN", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_RING"):
+        assert ga[key] == pytest.approx(t5[key], rel=0.08)
+    # the paper's printed values (rounded to 1 N m; 2 N m covers the rounding of FA)
+    assert t5["Mx_SP"] == pytest.approx(128, abs=2) and t5["My_SP"] == pytest.approx(99, abs=2)
+    assert t5["Mx_RP"] == pytest.approx(104, abs=2) and t5["My_RP"] == pytest.approx(185, abs=2)
+
+
+def test_sp_rp_mesh_near_centred(ga, gb):
+    """singh2007: the SP-RP mesh sees only a small LOA-moment differential and stays nearly
+    centred. 2B-GA (rigid bearing): every offset is small; |Z_SP-RP| < 2 % of the pinion face
+    width. 2B-GB: the sun mesh load moves to -Z and the ring mesh load to +Z (as in case 1,
+    bearing tilt is self-correcting) by ~4 mm, and the SP-RP centroid moves < 0.3 of the
+    smaller of the two (measured 0.19): its LOA moments nearly cancel (M_RP-SP + M_SP-RP is
+    26 N m in the FE against 87-135 N m LOA moments; the paper's closed form: 11 N m)."""
+    assert abs(ga["Z_SPRP"]) < 0.02 * FACE_PINION
+    assert gb["ZS"] < 0 < gb["ZR"]
+    assert abs(gb["Z_SPRP"]) < 0.3 * min(abs(gb["ZS"]), abs(gb["ZR"]))
+    assert math.isfinite(ga["ZS"]) and math.isfinite(ga["ZR"])
