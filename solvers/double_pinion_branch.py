@@ -49,12 +49,15 @@ import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
 import numpy as np
 from mpi4py import MPI
 
-from solvers.contact import ContactPair, ContactProblem, RigidUnknown
+from solvers.contact import ContactProblem, RigidUnknown
 from solvers.contact_grid import ContactGrid
-from solvers.elastic_body import Dirichlet, ElasticBody, Material
-from solvers.gear_contact import FlankGridInfo, _load_placed, flank_grid
-from solvers.results import contact_resultant, residual_resultant
-from solvers.rigid_coupling import RigidCoupling, bearing
+from solvers.gear_contact import (
+    FlankGridInfo,
+    body_resultants,
+    chain_bodies,
+    flank_contact_pairs,
+    total_dofs,
+)
 
 PINIONS = ("SP", "RP")
 MESHES = ("sun-SP", "SP-RP", "RP-ring")
@@ -101,61 +104,8 @@ def build_double_branch(
     lv = case.model.level if level is None else level
     h = sizing.check_level(lv).fine if spacing is None else spacing
     scene = case2_scene(roll)
-    mat = Material(
-        case.material.youngs_modulus * case.material.gear_modulus_factor,
-        case.material.poisson_ratio,
-    )
-    loaded = {nm: _load_placed(scene.gear(nm), lv, comm) for nm in ("sun", *PINIONS, "ring")}
-    t1 = time.perf_counter()
-    inf = math.inf
-    brg = case.bearing
-    centres = {p: np.array([*scene.gear(p).placement.centre, 0.0]) for p in PINIONS}
-    b_sun, tg_sun = loaded["sun"]
-    bodies = [
-        ElasticBody(
-            "sun",
-            b_sun.mesh,
-            b_sun.facet_tags,
-            tg_sun,
-            mat,
-            degree,
-            couplings=[RigidCoupling("axis", "sun/bore", (0.0, 0.0, 0.0), (inf,) * 5 + (0.0,))],
-            centre=(0.0, 0.0, 0.0),
-        )
-    ]
-    for p in PINIONS:
-        b, tg = loaded[p]
-        c = tuple(centres[p])
-        coupling = bearing(
-            "bearing",
-            f"{p}/bore",
-            c,
-            (0.0, 0.0, 1.0),
-            brg.radial_stiffness,
-            brg.tilting_stiffness,
-            brg.axial_stiffness,
-        )
-        bodies.append(
-            ElasticBody(p, b.mesh, b.facet_tags, tg, mat, degree, couplings=[coupling], centre=c)
-        )
-    b_ring, tg_ring = loaded["ring"]
-    bodies.append(
-        ElasticBody(
-            "ring",
-            b_ring.mesh,
-            b_ring.facet_tags,
-            tg_ring,
-            mat,
-            degree,
-            dirichlet=[Dirichlet("ring/rim")],
-            centre=(0.0, 0.0, 0.0),
-        )
-    )
-    grids, pairs = {}, []
-    for zn in scene.zones:
-        g, info = flank_grid(zn, scene.gear(zn.driver), scene.gear(zn.driven), h, width, micro)
-        grids[g.name] = (g, info)
-        pairs.append(ContactPair(g, zn.driver, zn.driven))
+    bodies, centres, t_meshes = chain_bodies(case, scene, PINIONS, lv, degree, comm)
+    grids, pairs = flank_contact_pairs(scene, h, width, micro)
     if tuple(grids) != MESHES:
         raise ValueError(f"case2 scene zones {tuple(grids)}: expected {MESHES}")
     torque = case.gearset.torque_per_branch * 1e3  # N mm
@@ -169,24 +119,12 @@ def build_double_branch(
         penalty_factor=penalty_factor,
     )
     frames = {p: pinion_frame(centres[p]) for p in PINIONS}
-    dofs = sum(b.V.dofmap.index_map.size_global * b.V.dofmap.index_map_bs for b in bodies)
-    timings = {"scene_and_meshes": t1 - t0, "bodies": time.perf_counter() - t1}
+    dofs = total_dofs(bodies)
+    timings = {"scene_and_meshes": t_meshes, "bodies": time.perf_counter() - t0 - t_meshes}
     return DoubleBranchModel(problem, scene, grids, torque, centres, frames, dofs, timings)
 
 
 # ---------------------------------------------------------------------------- outputs
-def loa_moments(mx_sp, my_sp, mx_rp, my_rp, g) -> dict[str, float]:
-    """The four section-5 LOA moments (N m) from the pinion moments and the geometry ``g``
-    (:class:`postprocess.analytic.double_pinion.DoublePinionGeometry`)."""
-    th, ph = g.theta, g.phi
-    return {
-        "M_LOA_SP_SUN": mx_sp * math.cos(g.a1) + my_sp * math.sin(g.a1),
-        "M_LOA_SP_RP": -mx_sp * math.cos(th - g.a2) - my_sp * math.sin(th - g.a2),
-        "M_LOA_RP_SP": -mx_rp * math.cos(ph + g.a2) + my_rp * math.sin(ph + g.a2),
-        "M_LOA_RP_RING": -mx_rp * math.cos(g.a3) - my_rp * math.sin(g.a3),
-    }
-
-
 def _analytic():
     from postprocess.analytic import double_pinion as dp
     from postprocess.analytic.study import (
@@ -211,18 +149,7 @@ def double_branch_results(model: DoubleBranchModel, result) -> dict:
         "centres_mm": {k: v.tolist() for k, v in model.centres.items()},
         "frames": {k: v.tolist() for k, v in model.frames.items()},
     }
-    res = {}
-    for name in p.bodies:
-        fc, mc = contact_resultant(p, result, name)
-        res[name] = (fc, mc, residual_resultant(p, result, name))
-    agree = 0.0
-    for f1, m1, r1 in res.values():
-        agree = max(
-            agree,
-            np.linalg.norm(f1 - r1["contact"][0]) / max(np.linalg.norm(f1), 1e-30),
-            np.linalg.norm(m1 - r1["contact"][1]) / max(np.linalg.norm(m1), 1e-30),
-        )
-    out["resultant_mismatch_rel"] = float(agree)
+    res, out["resultant_mismatch_rel"] = body_resultants(p, result)
     for pn in PINIONS:
         Q = model.frames[pn]
         fc, mc, rr = res[pn]
@@ -275,7 +202,7 @@ def double_branch_results(model: DoubleBranchModel, result) -> dict:
     out["ZS"] = out["Z_sun-SP_SP"]
     out["Z_SPRP"] = out["Z_SP-RP_SP"]
     out["ZR"] = out["Z_RP-ring_RP"]
-    out.update(loa_moments(out["Mx_SP"], out["My_SP"], out["Mx_RP"], out["My_RP"], geo))
+    out.update(dp.loa_moments(out["Mx_SP"], out["My_SP"], out["Mx_RP"], out["My_RP"], geo))
     # closed form: Table 5 (concentrated load at the pitch points, mid face width)
     table5 = dp.double_pinion_moments(fz, geo)
     # closed form moved to the FE centroid offsets: the analytic mesh forces (axial part
@@ -321,7 +248,7 @@ def double_branch_results(model: DoubleBranchModel, result) -> dict:
             out[f"loa_offset_{mesh}_{pn}_mm"] = float((cent[(mesh, pn)] @ Q.T - r_w * d) @ t)
         shifted[f"Mx_{pn}"], shifted[f"My_{pn}"] = float(m[0]), float(m[1])
     shifted.update(
-        loa_moments(shifted["Mx_SP"], shifted["My_SP"], shifted["Mx_RP"], shifted["My_RP"], geo)
+        dp.loa_moments(shifted["Mx_SP"], shifted["My_SP"], shifted["Mx_RP"], shifted["My_RP"], geo)
     )
     out["analytic"] = {
         "table5": table5,

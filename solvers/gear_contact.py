@@ -248,6 +248,78 @@ def paper_frame(f_sun_on_pinion: np.ndarray, pinion_centre) -> np.ndarray:
     return np.vstack([ex, ey, np.cross(ex, ey)])
 
 
+def chain_bodies(case, scene, pinions: tuple[str, ...], level: int, degree: int, comm):
+    """The elastic bodies of one power path sun -> pinions -> ring (scene frame): the sun
+    bore slaved to its axis (rotation left to a rigid unknown), each pinion bore on the
+    case's 6x6 diagonal needle bearing about its own centre (spin left to a rigid unknown),
+    the ring held at its rim. Returns (bodies, pinion centres, mesh-loading seconds)."""
+    t0 = time.perf_counter()
+    names = ("sun", *pinions, "ring")
+    loaded = {nm: _load_placed(scene.gear(nm), level, comm) for nm in names}
+    t_meshes = time.perf_counter() - t0
+    mat = Material(case.material.gear_youngs_modulus, case.material.poisson_ratio)
+    brg, origin = case.bearing, (0.0, 0.0, 0.0)
+    centres = {p: np.array([*scene.gear(p).placement.centre, 0.0]) for p in pinions}
+    bodies = []
+    for nm in names:
+        b, tg = loaded[nm]
+        kw: dict = {"centre": origin}
+        if nm == "sun":
+            kw["couplings"] = [RigidCoupling("axis", "sun/bore", origin, (math.inf,) * 5 + (0.0,))]
+        elif nm == "ring":
+            kw["dirichlet"] = [Dirichlet("ring/rim")]
+        else:
+            c = tuple(centres[nm])
+            kw["centre"] = c
+            kw["couplings"] = [
+                bearing(
+                    "bearing",
+                    f"{nm}/bore",
+                    c,
+                    (0.0, 0.0, 1.0),
+                    brg.radial_stiffness,
+                    brg.tilting_stiffness,
+                    brg.axial_stiffness,
+                )
+            ]
+        bodies.append(ElasticBody(nm, b.mesh, b.facet_tags, tg, mat, degree, **kw))
+    return bodies, centres, t_meshes
+
+
+def flank_contact_pairs(scene, spacing: float, width, micro):
+    """Contact grids on the exact theoretical contact lines of every mesh zone of the scene,
+    and the contact pairs (driver, driven) that carry them."""
+    grids, pairs = {}, []
+    for zn in scene.zones:
+        g, info = flank_grid(
+            zn, scene.gear(zn.driver), scene.gear(zn.driven), spacing, width, micro
+        )
+        grids[g.name] = (g, info)
+        pairs.append(ContactPair(g, zn.driver, zn.driven))
+    return grids, pairs
+
+
+def total_dofs(bodies) -> int:
+    return sum(b.V.dofmap.index_map.size_global * b.V.dofmap.index_map_bs for b in bodies)
+
+
+def body_resultants(p: ContactProblem, result) -> tuple[dict, float]:
+    """Per body (contact force, contact moment, residual resultants) and the largest relative
+    mismatch between the contact and residual resultants over every body."""
+    res = {}
+    for name in p.bodies:
+        fc, mc = contact_resultant(p, result, name)
+        res[name] = (fc, mc, residual_resultant(p, result, name))
+    agree = 0.0
+    for f1, m1, r1 in res.values():
+        agree = max(
+            agree,
+            np.linalg.norm(f1 - r1["contact"][0]) / max(np.linalg.norm(f1), 1e-30),
+            np.linalg.norm(m1 - r1["contact"][1]) / max(np.linalg.norm(m1), 1e-30),
+        )
+    return res, float(agree)
+
+
 def build_branch(
     case,
     roll: float = 0.0,
@@ -269,66 +341,9 @@ def build_branch(
     lv = case.model.level if level is None else level
     h = sizing.check_level(lv).fine if spacing is None else spacing
     scene = case1_scene(roll)
-    mat = Material(
-        case.material.youngs_modulus * case.material.gear_modulus_factor,
-        case.material.poisson_ratio,
-    )
-    sun, pin, ring = scene.gear("sun"), scene.gear("pinion"), scene.gear("ring")
-    (b_sun, tg_sun), (b_pin, tg_pin), (b_ring, tg_ring) = (
-        _load_placed(g, lv, comm) for g in (sun, pin, ring)
-    )
-    t1 = time.perf_counter()
-    inf = math.inf
-    c_pin = np.array([*pin.placement.centre, 0.0])
-    brg = case.bearing
-    bodies = [
-        ElasticBody(
-            "sun",
-            b_sun.mesh,
-            b_sun.facet_tags,
-            tg_sun,
-            mat,
-            degree,
-            couplings=[RigidCoupling("axis", "sun/bore", (0.0, 0.0, 0.0), (inf,) * 5 + (0.0,))],
-            centre=(0.0, 0.0, 0.0),
-        ),
-        ElasticBody(
-            "pinion",
-            b_pin.mesh,
-            b_pin.facet_tags,
-            tg_pin,
-            mat,
-            degree,
-            couplings=[
-                bearing(
-                    "bearing",
-                    "pinion/bore",
-                    tuple(c_pin),
-                    (0.0, 0.0, 1.0),
-                    brg.radial_stiffness,
-                    brg.tilting_stiffness,
-                    brg.axial_stiffness,
-                )
-            ],
-            centre=tuple(c_pin),
-        ),
-        ElasticBody(
-            "ring",
-            b_ring.mesh,
-            b_ring.facet_tags,
-            tg_ring,
-            mat,
-            degree,
-            dirichlet=[Dirichlet("ring/rim")],
-            centre=(0.0, 0.0, 0.0),
-        ),
-    ]
-    grids = {}
-    pairs = []
-    for zn in scene.zones:
-        g, info = flank_grid(zn, scene.gear(zn.driver), scene.gear(zn.driven), h, width, micro)
-        grids[g.name] = (g, info)
-        pairs.append(ContactPair(g, zn.driver, zn.driven))
+    bodies, centres, t_meshes = chain_bodies(case, scene, ("pinion",), lv, degree, comm)
+    c_pin = centres["pinion"]
+    grids, pairs = flank_contact_pairs(scene, h, width, micro)
     torque = case.gearset.torque_per_branch * 1e3  # N mm
     problem = ContactProblem(
         bodies,
@@ -341,9 +356,8 @@ def build_branch(
     )
     sun_grid = grids["sun-pinion"][0]
     frame = paper_frame(sun_grid.normals[0], c_pin)
-    dofs = sum(b.V.dofmap.index_map.size_global * b.V.dofmap.index_map_bs for b in bodies)
-    timings = {"scene_and_meshes": t1 - t0, "bodies": time.perf_counter() - t1}
-    return BranchModel(problem, scene, grids, torque, c_pin, frame, dofs, timings)
+    timings = {"scene_and_meshes": t_meshes, "bodies": time.perf_counter() - t0 - t_meshes}
+    return BranchModel(problem, scene, grids, torque, c_pin, frame, total_dofs(bodies), timings)
 
 
 # ---------------------------------------------------------------------------- outputs
@@ -362,12 +376,7 @@ def branch_results(model: BranchModel, result) -> dict:
     Q = model.frame
     cp = model.pinion_centre
     out: dict = {"pinion_centre_mm": np.asarray(cp, float).tolist(), "frame": Q.tolist()}
-    # contact resultants and residual resultants per body
-    res = {}
-    for name in p.bodies:
-        fc, mc = contact_resultant(p, result, name)
-        rr = residual_resultant(p, result, name)
-        res[name] = (fc, mc, rr)
+    res, mismatch = body_resultants(p, result)
     fc, mc, rr = res["pinion"]
     out["pinion_force_N"] = (Q @ fc).tolist()  # load carried by the bearing
     m_pin = Q @ mc / 1e3
@@ -384,17 +393,7 @@ def branch_results(model: BranchModel, result) -> dict:
     out["bearing_spring_moment_Nm"] = (Q @ (a.T @ kq[3:]) / 1e3).tolist()
     out["pinion_tilt_rad"] = (Q @ (a.T @ q[3:])).tolist()
     out["pinion_spin_moment_Nm"] = float(mc[2] / 1e3)
-    # agreement of the two resultants (contact vs residual) over every body
-    agree = 0.0
-    for f1, m1, r1 in res.values():
-        scale_f = max(np.linalg.norm(f1), 1e-30)
-        scale_m = max(np.linalg.norm(m1), 1e-30)
-        agree = max(
-            agree,
-            np.linalg.norm(f1 - r1["contact"][0]) / scale_f,
-            np.linalg.norm(m1 - r1["contact"][1]) / scale_m,
-        )
-    out["resultant_mismatch_rel"] = float(agree)
+    out["resultant_mismatch_rel"] = mismatch
     # torques about the scene axis
     out["sun_torque_applied_Nm"] = model.torque / 1e3
     out["sun_contact_torque_Nm"] = float(res["sun"][1][2] / 1e3)

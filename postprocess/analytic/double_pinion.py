@@ -142,7 +142,6 @@ def double_pinion_moments(fz: AxialForces, g: DoublePinionGeometry) -> dict[str,
     parts = per_force_moments(fz, g)
     mx_sp, my_sp = (sum(p[i] for p in parts["SP"].values()) for i in (0, 1))
     mx_rp, my_rp = (sum(p[i] for p in parts["RP"].values()) for i in (0, 1))
-    th, ph = g.theta, g.phi
     return {
         "Mx_SP": mx_sp,
         "My_SP": my_sp,
@@ -150,6 +149,21 @@ def double_pinion_moments(fz: AxialForces, g: DoublePinionGeometry) -> dict[str,
         "Mx_RP": mx_rp,
         "My_RP": my_rp,
         "M_RP": math.hypot(mx_rp, my_rp),
+        **loa_moments(mx_sp, my_sp, mx_rp, my_rp, g),
+    }
+
+
+def loa_moments(mx_sp, my_sp, mx_rp, my_rp, g: DoublePinionGeometry) -> dict[str, float]:
+    """The four LOA moments (section 5) from the pinion moments, N m; linear, so it also
+    applies to FE-measured moments::
+
+        M_SP-SUN  =  Mx_SP cos(a1) + My_SP sin(a1)
+        M_SP-RP   = -Mx_SP cos(theta - a2) - My_SP sin(theta - a2)
+        M_RP-SP   = -Mx_RP cos(phi + a2) + My_RP sin(phi + a2)
+        M_RP-RING = -Mx_RP cos(a3) - My_RP sin(a3)
+    """
+    th, ph = g.theta, g.phi
+    return {
         "M_LOA_SP_SUN": mx_sp * math.cos(g.a1) + my_sp * math.sin(g.a1),
         "M_LOA_SP_RP": -mx_sp * math.cos(th - g.a2) - my_sp * math.sin(th - g.a2),
         "M_LOA_RP_SP": -mx_rp * math.cos(ph + g.a2) + my_rp * math.sin(ph + g.a2),
