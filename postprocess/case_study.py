@@ -90,7 +90,8 @@ def iso_nominal_root_stress(case: StudyCase) -> dict:
     """ISO 6336-3 method B nominal root stress (MPa, all K factors 1) of the external gears;
     the ring is not covered by our ISO implementation (internal gear)."""
     torque = case.gearset.torque_per_branch * 1e3  # N mm on the sun
-    sun_pair, ring_pair = _pairs(case)["S"], _pairs(case)["R"]
+    pairs = _pairs(case)
+    sun_pair, ring_pair = pairs["S"], pairs["R"]
     pinion_torque = torque * sun_pair.gear2.teeth / sun_pair.gear1.teeth
     return {
         "sun": nominal_root_stress(sun_pair, 1, torque)["sigma_F0"],
