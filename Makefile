@@ -9,6 +9,9 @@ MPIEXEC := $(VENV)/bin/mpiexec
 STAMP   := $(VENV)/.installed
 RESULTS := results
 CASE1   := 1-GA 1-GB 1-GC 1-GB-R
+CASE2   := 2B-GA 2B-GB
+GEARSETS := case1 case2
+PACKAGES := gears cases meshing solvers postprocess studies
 NP      ?= 1
 
 # First Python >= 3.12 that actually runs: python3.12.. on PATH (a pyenv shim that is not
@@ -19,7 +22,7 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 	    command -v "$$p"; exit 0; fi; done; exit 1
 
 .PHONY: all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
-	distclean help case1 $(CASE1) bench-case1
+	distclean help case1 $(CASE1) $(CASE2) study bench-case1
 
 all: setup analytic meshes case1 ## set up and run the main study
 
@@ -46,33 +49,38 @@ test-mpi: $(STAMP)
 	$(MPIEXEC) -n 2 $(PY) -m pytest -m mpi -p no:cacheprovider -q; rc=$$?; [ $$rc -eq 0 ] || [ $$rc -eq 5 ]
 
 analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md,*.png}
-	$(PY) -m postprocess.analytic --out $(RESULTS)/analytic
+	$(PY) -m studies.analytic --out $(RESULTS)/analytic
 
 # One FE study case: `make 1-GB`; `make 1-GB NP=2` runs it on 2 MPI ranks.
-$(CASE1): $(STAMP)
-	$(MPIEXEC) -n $(NP) $(PY) -m postprocess.case_study $@ --out $(RESULTS)
+$(CASE1) $(CASE2): $(STAMP)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $@ --out $(RESULTS)
+
+# Any case file: `make study CASE=path/to/my_case.toml` (or a name in cases/).
+study: $(STAMP) ## one study for any case file: make study CASE=path/to/case.toml [NP=2]
+	@[ -n "$(CASE)" ] || { echo "error: give the case file: make study CASE=path/to/case.toml" >&2; exit 2; }
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE) --out $(RESULTS)
 
 case1: $(CASE1) ## the four case-1 FE cases and their report: results/case1/report.md
-	$(PY) -m postprocess.case1_report --results $(RESULTS)
+	$(PY) -m studies.case1_report --results $(RESULTS)
 
 meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
-	$(PY) -m meshing --out $(RESULTS)/meshes
+	$(PY) -m studies.meshes --gearsets $(GEARSETS) --carrier --out $(RESULTS)/meshes
 
 bench-mesh: $(STAMP) ## meshing benchmark: results/bench/meshing.json
-	$(PY) -m postprocess.bench_meshing --out $(RESULTS)/bench/meshing.json
+	$(PY) -m studies.bench_meshing --gearsets $(GEARSETS) --out $(RESULTS)/bench/meshing.json
 
 bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
-	$(PY) -m postprocess.bench_solver --out $(RESULTS)/bench
-	$(MPIEXEC) -n 2 $(PY) -m postprocess.bench_solver --out $(RESULTS)/bench/mpi2
+	$(PY) -m studies.bench_solver --out $(RESULTS)/bench
+	$(MPIEXEC) -n 2 $(PY) -m studies.bench_solver --out $(RESULTS)/bench/mpi2
 
 # Peaks at about 14 GB in the level-0 P2 run; drop `--extra 0:2` on a smaller machine.
 bench-case1: $(STAMP) ## case 1 speed against error (1-GB): results/bench/case1_speed_error.{json,png}
-	$(PY) -m postprocess.bench_case1 --out $(RESULTS)/bench --case 1-GB --levels 0 1 2 \
+	$(PY) -m studies.bench_case1 --out $(RESULTS)/bench --case 1-GB --levels 0 1 2 \
 	  --degrees 1 --extra 0:2
 
 lint: $(STAMP) ## ruff
-	$(VENV)/bin/ruff check meshing solvers cases postprocess tests
-	$(VENV)/bin/ruff format --check meshing solvers cases postprocess tests
+	$(VENV)/bin/ruff check $(PACKAGES) tests
+	$(VENV)/bin/ruff format --check $(PACKAGES) tests
 
 clean: ## remove results and caches, including cached meshes (keeps the virtualenv)
 	rm -rf $(RESULTS) .cache .pytest_cache .ruff_cache

@@ -3,23 +3,40 @@
 A gear-set file holds the data a paper prints and nothing derived: tooth numbers, module,
 pressure and helix angle, hands, face widths, centre distances, torque. Profile shifts are
 resolved from the centre distances along the power path (sun -> ... -> ring) by
-:func:`meshing.gear_geometry.assign_chain_shifts`.
+:func:`gears.pair.assign_chain_shifts`.
 
-Every error names the file and the field (``case1.toml: gears.sun.teeth = 0: ...``).
+Every error names the file and the field (``case1.toml: gears.sun.teeth = 0: ...``); every
+table refuses keys it does not know. Beyond the single gears and meshes (checked by
+:mod:`gears`), the set must be buildable: a single-pinion set meshes the pinion with sun and
+ring at one centre distance (sun and ring are coaxial), a double-pinion set places the
+sun, SP and RP axes on a triangle.
 """
 
 from __future__ import annotations
 
+import math
+import re
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from meshing.gear_geometry import GearPair, GearSpec, GeometryError, assign_chain_shifts
+from gears.analytic.planetary import PlanetaryInput
+from gears.pair import GearPair, assign_chain_shifts
+from gears.spec import GearSpec, GeometryError
 
 GEARSET_DIR = Path(__file__).parent / "gearsets"
 KINDS = ("single_pinion", "double_pinion")
-_GEAR_FIELDS = {
+# Gears on the power path sun -> ... -> ring, per kind.
+PATH_LENGTH = {"single_pinion": 3, "double_pinion": 4}
+# Tolerance on the two centre distances of a single-pinion set (mm).
+CENTRE_DISTANCE_TOL = 1e-6
+# Names of cases and gear sets: also folder names of their outputs.
+NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]*")
+MAX_NAME_LENGTH = 64
+
+_TOP_FIELDS = ("name", "kind", "input_torque", "planets", "power_path", "common", "gears", "meshes")
+_GEAR_FIELDS = (
     "teeth",
     "normal_module",
     "normal_pressure_angle",
@@ -31,8 +48,11 @@ _GEAR_FIELDS = {
     "dedendum_coef",
     "hob_tip_radius_coef",
     "shaper_teeth",
-}
-_COMMON_FIELDS = _GEAR_FIELDS - {"teeth", "hand", "face_width", "internal"}
+)
+_COMMON_FIELDS = tuple(
+    f for f in _GEAR_FIELDS if f not in {"teeth", "hand", "face_width", "internal"}
+)
+_MESH_FIELDS = ("gears", "centre_distance")
 
 
 class CaseError(ValueError):
@@ -40,7 +60,7 @@ class CaseError(ValueError):
 
 
 @dataclass(frozen=True)
-class MeshSpec:
+class GearMeshSpec:
     """One gear mesh of the set: ``gear1`` is the external gear nearer the sun."""
 
     gear1: str
@@ -50,13 +70,15 @@ class MeshSpec:
 
 @dataclass(frozen=True)
 class GearSet:
-    name: str
+    name: str  # safe as a folder name (NAME_PATTERN)
     kind: str  # one of KINDS
-    input_torque: float  # N m on the sun
+    input_torque: float  # N m on the sun, finite and > 0
     planets: int  # pinions (single) or pinion pairs (double) sharing the torque
-    power_path: tuple[str, ...]
+    power_path: tuple[str, ...]  # sun -> ... -> ring, PATH_LENGTH[kind] gears
     gears: dict[str, GearSpec]  # profile shifts resolved
-    meshes: tuple[MeshSpec, ...]
+    meshes: tuple[GearMeshSpec, ...]  # one per step of the power path, in order
+    path: str = field(default="", compare=False)  # the file read ("" if parsed from a mapping)
+    source: dict = field(default_factory=dict, compare=False, repr=False)  # its TOML mapping
 
     @property
     def torque_per_branch(self) -> float:
@@ -71,10 +93,51 @@ class GearSet:
         known = ", ".join(f"{m.gear1}-{m.gear2}" for m in self.meshes)
         raise KeyError(f"{self.name}: no mesh {gear1}-{gear2}; meshes are {known}")
 
+    def planetary_input(self) -> PlanetaryInput:
+        """The closed-form inputs (:mod:`gears.analytic.planetary`) of this set."""
+        return PlanetaryInput(
+            name=self.name,
+            gears=tuple(self.gears[p] for p in self.power_path),
+            centre_distances=tuple(m.centre_distance for m in self.meshes),
+            input_torque=self.input_torque,
+            planets=self.planets,
+        )
+
 
 def _require(cond: bool, where: str, msg: str) -> None:
     if not cond:
         raise CaseError(f"{where}: {msg}")
+
+
+def check_keys(table: Any, allowed: tuple[str, ...], where: str, table_name: str = "") -> dict:
+    """``table`` as a dict whose keys are all in ``allowed``; else a :class:`CaseError`
+    naming the file (``where``), the table and the allowed keys."""
+    prefix = f"{where}: {table_name}" if table_name else where
+    _require(isinstance(table, dict), prefix, f"must be a table, got {table!r}")
+    unknown = [k for k in table if k not in allowed]
+    if unknown:
+        what = "unknown field" if len(unknown) == 1 else "unknown fields"
+        listed = ", ".join(repr(k) for k in unknown)
+        raise CaseError(f"{prefix}: {what} {listed} (allowed: {', '.join(allowed)})")
+    return table
+
+
+def check_name(value: Any, where: str, key: str = "name") -> str:
+    """A case or gear-set name that is safe as a folder name: ``NAME_PATTERN``, at most
+    ``MAX_NAME_LENGTH`` characters, no ``..``."""
+    ok = (
+        isinstance(value, str)
+        and len(value) <= MAX_NAME_LENGTH
+        and NAME_PATTERN.fullmatch(value) is not None
+        and ".." not in value
+    )
+    _require(
+        ok,
+        where,
+        f"{key} = {value!r}: must be 1 to {MAX_NAME_LENGTH} characters from A-Z a-z 0-9 _ . + -"
+        ", starting with a letter or digit, without '..' (it names output folders)",
+    )
+    return value
 
 
 def _number(data: dict, key: str, where: str, *, positive: bool = True) -> float:
@@ -84,15 +147,44 @@ def _number(data: dict, key: str, where: str, *, positive: bool = True) -> float
         where,
         f"{key} = {value!r}: must be a number",
     )
+    _require(math.isfinite(value), where, f"{key} = {value!r}: must be a finite number")
     if positive:
         _require(value > 0, where, f"{key} = {value!r}: must be > 0")
     return float(value)
 
 
-def parse_gearset(data: dict[str, Any], source: str = "<gearset>") -> GearSet:
-    """Validate a parsed TOML mapping into a :class:`GearSet`."""
-    name = data.get("name")
-    _require(isinstance(name, str) and name, source, f"name = {name!r}: must be a non-empty string")
+def _check_kind_geometry(kind: str, meshes: list[GearMeshSpec], source: str) -> None:
+    """Centre distances a carrier can hold: single pinion, sun-pinion = pinion-ring (the
+    pinion axis is shared, sun and ring coaxial); double pinion, the sun, SP and RP axes form
+    a triangle with sides sun-SP, SP-RP and RP-ring (= sun-RP, sun and ring coaxial)."""
+    a = [m.centre_distance for m in meshes]
+    names = [f"{m.gear1}-{m.gear2}" for m in meshes]
+    if kind == "single_pinion":
+        _require(
+            abs(a[1] - a[0]) <= CENTRE_DISTANCE_TOL,
+            f"{source}: meshes[1]",
+            f"centre_distance = {a[1]!r} mm ({names[1]}) must equal meshes[0].centre_distance"
+            f" = {a[0]!r} mm ({names[0]}) to {CENTRE_DISTANCE_TOL:g} mm: both meshes share the"
+            " pinion axis and sun and ring are coaxial",
+        )
+    else:
+        sides = sorted(a)
+        _require(
+            sides[2] < sides[0] + sides[1],
+            f"{source}: meshes",
+            f"centre distances {names[0]} = {a[0]!r}, {names[1]} = {a[1]!r}, {names[2]} = "
+            f"{a[2]!r} mm (= sun-{meshes[2].gear1}, sun and ring coaxial) violate the strict "
+            "triangle inequality: the sun, SP and RP axes cannot be placed",
+        )
+
+
+def parse_gearset(
+    data: dict[str, Any], source: str = "<gearset>", path: str | Path = ""
+) -> GearSet:
+    """Validate a parsed TOML mapping into a :class:`GearSet`; ``source`` names the file in
+    messages, ``path`` is recorded as :attr:`GearSet.path`."""
+    check_keys(data, _TOP_FIELDS, source)
+    name = check_name(data.get("name"), source)
     kind = data.get("kind")
     _require(kind in KINDS, source, f"kind = {kind!r}: must be one of {', '.join(KINDS)}")
     torque = _number(data, "input_torque", source)
@@ -103,16 +195,13 @@ def parse_gearset(data: dict[str, Any], source: str = "<gearset>") -> GearSet:
         f"planets = {planets!r}: must be an integer from 1 to 12",
     )
 
-    common = data.get("common", {})
-    unknown = set(common) - _COMMON_FIELDS
-    _require(not unknown, source, f"common: unknown field(s) {sorted(unknown)}")
+    common = check_keys(data.get("common", {}), _COMMON_FIELDS, source, "common")
     raw_gears = data.get("gears")
     _require(isinstance(raw_gears, dict) and raw_gears, source, "gears: at least one [gears.X]")
     gears: dict[str, GearSpec] = {}
     for gname, g in raw_gears.items():
         where = f"{source}: gears.{gname}"
-        unknown = set(g) - _GEAR_FIELDS
-        _require(not unknown, where, f"unknown field(s) {sorted(unknown)}")
+        check_keys(g, _GEAR_FIELDS, source, f"gears.{gname}")
         try:
             gears[gname] = GearSpec(name=gname, **{**common, **g})
         except TypeError as exc:  # a required field is missing
@@ -120,51 +209,104 @@ def parse_gearset(data: dict[str, Any], source: str = "<gearset>") -> GearSet:
         except GeometryError as exc:
             raise CaseError(f"{where}: {exc}") from exc
 
-    path = data.get("power_path")
+    power_path = data.get("power_path")
     _require(
-        isinstance(path, list) and len(path) >= 2 and all(p in gears for p in path),
+        isinstance(power_path, list)
+        and len(power_path) >= 2
+        and all(isinstance(p, str) and p in gears for p in power_path),
         source,
-        f"power_path = {path!r}: must list at least two of the gears {sorted(gears)}",
+        f"power_path = {power_path!r}: must list at least two of the gears {sorted(gears)}",
     )
+    n_path = PATH_LENGTH[kind]
+    _require(
+        len(power_path) == n_path,
+        source,
+        f"power_path = {power_path!r}: a {kind} set has {n_path} gears on its power path "
+        f"({'sun, pinion, ring' if n_path == 3 else 'sun, SP, RP, ring'})",
+    )
+    _require(
+        len(set(power_path)) == len(power_path),
+        source,
+        f"power_path = {power_path!r}: a gear appears twice",
+    )
+    unused = [g for g in gears if g not in power_path]
+    _require(not unused, source, f"gears.{', gears.'.join(unused)}: not on the power_path")
+    for p in power_path[:-1]:
+        _require(
+            not gears[p].internal,
+            f"{source}: gears.{p}",
+            "internal = true: only the last gear of the power path (the ring) may be internal",
+        )
+    last = power_path[-1]
+    _require(
+        gears[last].internal,
+        f"{source}: gears.{last}",
+        "internal = false: the last gear of the power path must be internal (the ring)",
+    )
+
     raw_meshes = data.get("meshes", [])
     _require(
-        isinstance(raw_meshes, list) and len(raw_meshes) == len(path) - 1,
+        isinstance(raw_meshes, list) and len(raw_meshes) == len(power_path) - 1,
         source,
-        f"meshes: need one [[meshes]] per step of the power path ({len(path) - 1})",
+        f"meshes: need one [[meshes]] per step of the power path ({len(power_path) - 1})",
     )
     meshes = []
-    for i, (m, a, b) in enumerate(zip(raw_meshes, path[:-1], path[1:], strict=True)):
+    for i, (m, a, b) in enumerate(zip(raw_meshes, power_path[:-1], power_path[1:], strict=True)):
         where = f"{source}: meshes[{i}]"
+        check_keys(m, _MESH_FIELDS, source, f"meshes[{i}]")
         _require(
             m.get("gears") == [a, b],
             where,
             f"gears = {m.get('gears')!r}: must be {[a, b]!r} (the power path, in order)",
         )
-        meshes.append(MeshSpec(a, b, _number(m, "centre_distance", where)))
+        meshes.append(GearMeshSpec(a, b, _number(m, "centre_distance", where)))
+    _check_kind_geometry(kind, meshes, source)
 
     try:
-        shifted = assign_chain_shifts([gears[p] for p in path], [m.centre_distance for m in meshes])
+        shifted = assign_chain_shifts(
+            [gears[p] for p in power_path], [m.centre_distance for m in meshes]
+        )
     except GeometryError as exc:
         raise CaseError(f"{source}: {exc}") from exc
     gears.update({g.name: g for g in shifted})
-    return GearSet(name, kind, torque, planets, tuple(path), gears, tuple(meshes))
+    return GearSet(
+        name, kind, torque, planets, tuple(power_path), gears, tuple(meshes), str(path), data
+    )
 
 
 def load_gearset(name_or_path: str | Path) -> GearSet:
-    """Load ``cases/gearsets/<name>.toml`` (or a path to any gear-set file)."""
+    """Load ``cases/gearsets/<name>.toml`` (a bare name) or a gear-set file (a path ending
+    in ``.toml``; a relative path is taken from the working directory)."""
     path = Path(name_or_path)
-    if not path.suffix:
-        path = GEARSET_DIR / f"{name_or_path}.toml"
+    available = ", ".join(sorted(p.stem for p in GEARSET_DIR.glob("*.toml")))
+    if path.suffix != ".toml":
+        name = str(name_or_path)
+        if not (NAME_PATTERN.fullmatch(name) and ".." not in name):
+            raise CaseError(
+                f"gear set {name!r}: not a gear-set name (available: {available}) nor a path "
+                "ending in .toml"
+            )
+        path = GEARSET_DIR / f"{name}.toml"
     if not path.is_file():
-        available = ", ".join(sorted(p.stem for p in GEARSET_DIR.glob("*.toml")))
         raise CaseError(f"{path}: no such gear-set file (available: {available})")
-    return parse_gearset(read_toml(path), path.name)
+    return parse_gearset(read_toml(path), path.name, path)
 
 
 def read_toml(path: Path) -> dict[str, Any]:
-    """Parse a case file; a syntax error becomes a :class:`CaseError` naming the file."""
-    with path.open("rb") as f:
-        try:
-            return tomllib.load(f)
-        except tomllib.TOMLDecodeError as exc:
-            raise CaseError(f"{path.name}: not valid TOML: {exc}") from exc
+    """Parse a case file; an unreadable file, one not in UTF-8 or not valid TOML becomes a
+    :class:`CaseError` naming the file."""
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise CaseError(f"{path.name}: cannot read {path}: {exc.strerror or exc}") from exc
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise CaseError(
+            f"{path.name}: not UTF-8 text (byte {exc.start}: {raw[exc.start : exc.end]!r})"
+        ) from exc
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{path.name}: not valid TOML: {exc}") from exc

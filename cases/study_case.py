@@ -2,21 +2,50 @@
 
 A study case names a gear set (``cases/gearsets/``), the pinion needle bearing (singh2007
 section 7: a 6x6 diagonal stiffness between pinion and pin, radial and tilting given, axial
-stiff, spin free), the material, and the model resolution. Every error names the file and
-the field with the allowed range.
+stiff, spin free), the material, the model resolution and the numerical settings. Every
+table refuses keys it does not know; every error names the file and the field with the
+allowed range. Omitted optional fields take the defaults of the dataclasses below, the one
+place they are defined: ``[material]`` defaults to :data:`gears.material.STEEL`,
+``[numerics]`` to :data:`DEFAULTS`.
+
+:func:`study_inputs` gives everything that defines a run as JSON-ready data and
+:func:`inputs_hash` its sha256, for outputs that say what produced them.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import hashlib
+import json
+import math
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from cases.gearset import CaseError, GearSet, load_gearset, read_toml
+from cases.gearset import (
+    NAME_PATTERN,
+    CaseError,
+    GearSet,
+    check_keys,
+    check_name,
+    load_gearset,
+    read_toml,
+)
+from gears.material import STEEL
 
 CASE_DIR = Path(__file__).parent
 SCENES = ("one_branch", "all_planets")
 MAX_LEVEL = 3
+MAX_POSITIONS = 50
+# The paper leaves the axial bearing stiffness out ("stiff"): 100x the radial rigid bearing.
+DEFAULT_AXIAL_STIFFNESS = 2.33e10
+DEGREES = (1, 2)
+PENALTY_FACTOR_RANGE = (1.0, 1e6)  # inclusive
+GRID_SPACING_RANGE = (0.01, 5.0)  # mm, open below, closed above
+
+
+def _real(value) -> bool:
+    """A finite int or float (not a bool)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
 @dataclass(frozen=True)
@@ -25,14 +54,16 @@ class Bearing:
 
     radial_stiffness: float  # N/mm, both radial directions
     tilting_stiffness: float  # N mm/rad, both tilting axes
-    axial_stiffness: float  # N/mm; "stiff" in the paper
+    axial_stiffness: float = DEFAULT_AXIAL_STIFFNESS  # N/mm; "stiff" in the paper
 
 
 @dataclass(frozen=True)
 class Material:
-    youngs_modulus: float  # MPa
-    poisson_ratio: float
-    gear_modulus_factor: float  # multiplies E of every gear body (case 1-GB-R: 10)
+    """Isotropic elastic material of the bodies; defaults: :data:`gears.material.STEEL`."""
+
+    youngs_modulus: float = STEEL.youngs_modulus  # MPa
+    poisson_ratio: float = STEEL.poisson_ratio
+    gear_modulus_factor: float = 1.0  # multiplies E of every gear body (case 1-GB-R: 10)
 
     @property
     def gear_youngs_modulus(self) -> float:
@@ -43,17 +74,64 @@ class Material:
 class Model:
     scene: str  # one of SCENES
     level: int  # mesh resolution ladder level, 0..MAX_LEVEL
-    positions: int  # mesh positions over one base pitch
+    positions: int  # mesh positions over one base pitch, 1..MAX_POSITIONS
+
+
+@dataclass(frozen=True)
+class Numerics:
+    """Numerical settings of the finite element model (``[numerics]``, every field
+    optional). The defaults below are the only definition; validated on construction."""
+
+    degree: int = 1  # Lagrange element degree of the displacement, one of DEGREES
+    # Contact penalty relative to the body stiffness (eps = factor E* / h), PENALTY_FACTOR_RANGE.
+    penalty_factor: float = 100.0
+    # Contact grid point spacing along the contact line, mm, in GRID_SPACING_RANGE;
+    # None: the flank element size of the mesh level.
+    grid_spacing: float | None = None
+
+    def __post_init__(self):
+        d = self.degree
+        if isinstance(d, bool) or not isinstance(d, int) or d not in DEGREES:
+            raise CaseError(f"numerics.degree = {d!r}: must be one of {DEGREES} (element degree)")
+        p = self.penalty_factor
+        lo, hi = PENALTY_FACTOR_RANGE
+        if not _real(p) or not lo <= p <= hi:
+            raise CaseError(
+                f"numerics.penalty_factor = {p!r}: must be a number in [{lo:g}, {hi:g}]"
+            )
+        object.__setattr__(self, "penalty_factor", float(p))
+        s = self.grid_spacing
+        lo, hi = GRID_SPACING_RANGE
+        if s is not None:
+            if not _real(s) or not lo < s <= hi:
+                raise CaseError(
+                    f"numerics.grid_spacing = {s!r}: must be a number in ({lo:g}, {hi:g}] mm, "
+                    "or omitted for the flank element size of the mesh level"
+                )
+            object.__setattr__(self, "grid_spacing", float(s))
+
+
+DEFAULTS = Numerics()
 
 
 @dataclass(frozen=True)
 class StudyCase:
-    name: str
-    description: str
+    name: str  # safe as a folder name (cases.gearset.NAME_PATTERN)
+    description: str  # free text; not an input of the run (left out of study_inputs)
     gearset: GearSet
     bearing: Bearing
     material: Material
     model: Model
+    numerics: Numerics
+    path: str = field(default="", compare=False)  # the file read ("" if parsed from a mapping)
+    source: dict = field(default_factory=dict, compare=False, repr=False)  # its TOML mapping
+
+
+_TOP_FIELDS = ("name", "gearset", "description", "bearing", "material", "model", "numerics")
+
+
+def _names(cls) -> tuple[str, ...]:
+    return tuple(f.name for f in fields(cls))
 
 
 # Range checks: field -> (low, high, inclusive bounds), in the units of the dataclasses.
@@ -65,23 +143,21 @@ _RANGES = {
     "material.poisson_ratio": (0.0, 0.49),
     "material.gear_modulus_factor": (0.01, 100.0),
 }
-# The paper leaves the axial bearing stiffness out ("stiff"): 100x the radial rigid bearing.
-DEFAULT_AXIAL_STIFFNESS = 2.33e10
 
 
 def _section(data: dict, key: str, source: str) -> dict:
     value = data.get(key)
     if not isinstance(value, dict):
         raise CaseError(f"{source}: [{key}] section is missing")
-    return value
+    return check_keys(value, _names({"bearing": Bearing, "model": Model}[key]), source, key)
 
 
 def _ranged(section: dict, key: str, prefix: str, source: str, default=None) -> float:
-    field = f"{prefix}.{key}"
+    field_name = f"{prefix}.{key}"
     value = section.get(key, default)
-    lo, hi = _RANGES[field]
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= value <= hi:
-        raise CaseError(f"{source}: {field} = {value!r}: must be a number in [{lo:g}, {hi:g}]")
+    lo, hi = _RANGES[field_name]
+    if not _real(value) or not lo <= value <= hi:
+        raise CaseError(f"{source}: {field_name} = {value!r}: must be a number in [{lo:g}, {hi:g}]")
     return float(value)
 
 
@@ -92,23 +168,48 @@ def _integer(section: dict, key: str, prefix: str, source: str, lo: int, hi: int
     return value
 
 
-def parse_study_case(data: dict[str, Any], source: str = "<case>") -> StudyCase:
-    """Validate a parsed TOML mapping into a :class:`StudyCase`."""
-    name = data.get("name")
-    if not isinstance(name, str) or not name:
-        raise CaseError(f"{source}: name = {name!r}: must be a non-empty string")
-    gearset = load_gearset(str(data.get("gearset", "")) or "<missing gearset>")
+def _load_case_gearset(value: Any, source: str, path: str | Path) -> GearSet:
+    """``gearset``: a bare name (``cases/gearsets/<name>.toml``) or a path ending in .toml,
+    relative to the study-case file's folder (``CASE_DIR`` for a mapping without a file)."""
+    if isinstance(value, str) and value.endswith(".toml"):
+        target = Path(value)
+        if not target.is_absolute():
+            target = (Path(path).parent if path else CASE_DIR) / target
+    else:
+        if not isinstance(value, str):
+            raise CaseError(
+                f"{source}: gearset = {value!r}: must be a gear-set name (cases/gearsets/) or "
+                "a path ending in .toml"
+            )
+        target = check_name(value, source, "gearset")
+    try:
+        return load_gearset(target)
+    except CaseError as exc:
+        raise CaseError(f"{source}: gearset = {value!r}: {exc}") from exc
+
+
+def parse_study_case(
+    data: dict[str, Any], source: str = "<case>", path: str | Path = ""
+) -> StudyCase:
+    """Validate a parsed TOML mapping into a :class:`StudyCase`; ``source`` names the file
+    in messages, ``path`` (the file) is recorded and anchors a relative gear-set path."""
+    check_keys(data, _TOP_FIELDS, source)
+    name = check_name(data.get("name"), source)
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise CaseError(f"{source}: description = {description!r}: must be a string")
+    gearset = _load_case_gearset(data.get("gearset"), source, path)
+
     b = _section(data, "bearing", source)
     bearing = Bearing(
         _ranged(b, "radial_stiffness", "bearing", source),
         _ranged(b, "tilting_stiffness", "bearing", source),
         _ranged(b, "axial_stiffness", "bearing", source, DEFAULT_AXIAL_STIFFNESS),
     )
-    m = _section(data, "material", source)
+    m = check_keys(data.get("material", {}), _names(Material), source, "material")
+    steel = Material()
     material = Material(
-        _ranged(m, "youngs_modulus", "material", source),
-        _ranged(m, "poisson_ratio", "material", source),
-        _ranged(m, "gear_modulus_factor", "material", source, 1.0),
+        *(_ranged(m, k, "material", source, getattr(steel, k)) for k in _names(Material))
     )
     mod = _section(data, "model", source)
     scene = mod.get("scene")
@@ -117,9 +218,16 @@ def parse_study_case(data: dict[str, Any], source: str = "<case>") -> StudyCase:
     model = Model(
         scene,
         _integer(mod, "level", "model", source, 0, MAX_LEVEL),
-        _integer(mod, "positions", "model", source, 1, 50),
+        _integer(mod, "positions", "model", source, 1, MAX_POSITIONS),
     )
-    return StudyCase(name, str(data.get("description", "")), gearset, bearing, material, model)
+    n = check_keys(data.get("numerics", {}), _names(Numerics), source, "numerics")
+    try:
+        numerics = Numerics(**n)
+    except CaseError as exc:
+        raise CaseError(f"{source}: {exc}") from exc
+    return StudyCase(
+        name, description, gearset, bearing, material, model, numerics, str(path), data
+    )
 
 
 def available_cases() -> list[str]:
@@ -127,10 +235,52 @@ def available_cases() -> list[str]:
 
 
 def load_study_case(name_or_path: str | Path) -> StudyCase:
-    """Load ``cases/<name>.toml`` (or a path to any study-case file)."""
+    """Load ``cases/<name>.toml`` (a bare name) or a study-case file (a path ending in
+    ``.toml``)."""
     path = Path(name_or_path)
+    available = ", ".join(available_cases())
     if path.suffix != ".toml":
-        path = CASE_DIR / f"{name_or_path}.toml"
+        name = str(name_or_path)
+        if not NAME_PATTERN.fullmatch(name) or ".." in name:
+            raise CaseError(f"{name!r}: no such case (available: {available})")
+        path = CASE_DIR / f"{name}.toml"
     if not path.is_file():
-        raise CaseError(f"{path}: no such case (available: {', '.join(available_cases())})")
-    return parse_study_case(read_toml(path), path.name)
+        raise CaseError(f"{path}: no such case (available: {available})")
+    return parse_study_case(read_toml(path), path.name, path)
+
+
+def study_inputs(study: StudyCase) -> dict[str, Any]:
+    """Everything that defines the run of ``study``, resolved (defaults filled in, profile
+    shifts computed) and JSON-ready: the study case's name, bearing, material, model and
+    numerics; the gear set's name, kind, input torque, planets, power path, every
+    :class:`~gears.spec.GearSpec` field of every gear and the meshes. File paths and the
+    description are left out: moving a file or rewording it does not change the run."""
+    gs = study.gearset
+    return {
+        "study_case": {
+            "name": study.name,
+            "bearing": asdict(study.bearing),
+            "material": asdict(study.material),
+            "model": asdict(study.model),
+            "numerics": asdict(study.numerics),
+        },
+        "gearset": {
+            "name": gs.name,
+            "kind": gs.kind,
+            "input_torque": gs.input_torque,
+            "planets": gs.planets,
+            "power_path": list(gs.power_path),
+            "gears": {n: asdict(g) for n, g in gs.gears.items()},
+            "meshes": [
+                {"gears": [m.gear1, m.gear2], "centre_distance": m.centre_distance}
+                for m in gs.meshes
+            ],
+        },
+    }
+
+
+def inputs_hash(study: StudyCase) -> str:
+    """sha256 (hex) of the canonical JSON of :func:`study_inputs`: sorted keys, no spaces,
+    floats as ``repr`` (shortest round trip, so any change of a float's value counts)."""
+    text = json.dumps(study_inputs(study), sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from meshing import gmsh_util
 from meshing.sizing import MeshingError
 
 
@@ -72,8 +73,6 @@ def merge_meshes(parts: list[tuple[Path, Placement]], out_path: Path) -> dict:
     """Write the union of the placed body meshes ``parts`` to ``out_path`` (gmsh, rank 0).
 
     Returns counts per physical group. Names must not repeat across parts."""
-    from meshing import gmsh_util
-
     with gmsh_util.session("scene") as gm:
         seen: dict[str, str] = {}
         node_offset = 0

@@ -12,8 +12,10 @@ from pathlib import Path
 
 from meshing import cache, sizing
 from meshing.assemble import Placement, merge_meshes
-from meshing.gear_body import body_mesh_file
+from meshing.body_cache import body_mesh_file
+from meshing.carrier import carrier_mesh_file
 from meshing.scenes import Scene
+from meshing.to_dolfinx import load_msh
 
 
 def scene_mesh_file(scene: Scene, level: int, comm=None, rebuild: bool = False):
@@ -29,8 +31,6 @@ def scene_mesh_file(scene: Scene, level: int, comm=None, rebuild: bool = False):
         parts.append((path, g.placement))
         body_meta[g.name] = meta
     if scene.carrier is not None:
-        from meshing.carrier import carrier_mesh_file
-
         path, meta = carrier_mesh_file(scene.carrier, level, comm=comm, rebuild=rebuild)
         parts.append((path, Placement()))
         body_meta["carrier"] = meta
@@ -72,7 +72,5 @@ def scene_mesh_file(scene: Scene, level: int, comm=None, rebuild: bool = False):
 def load_scene(scene: Scene, level: int, comm, rebuild: bool = False):
     """The scene as one :class:`meshing.to_dolfinx.MeshBundle` (collective); ``meta`` holds
     the scene report (bodies, placements, zones, drive/coast flanks, what was left out)."""
-    from meshing.to_dolfinx import load_msh
-
     path, meta = scene_mesh_file(scene, level, comm=comm, rebuild=rebuild)
     return load_msh(path, comm, meta=meta)

@@ -15,8 +15,16 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from meshing import sizing
+from gears.analytic.phasing import assemblable_angles
+from meshing import cache, gmsh_util, sizing
 from meshing import tags as T
+from meshing.gmsh_util import (
+    add_physical_groups,
+    enforce_quality,
+    mesh_options,
+    mesh_stats,
+    sample_surface,
+)
 from meshing.sizing import MeshingError
 
 MESHER_VERSION = "carrier-1"
@@ -120,8 +128,6 @@ def build_geometry(gmsh, spec: CarrierSpec) -> int:
 
 def classify_surfaces(gmsh, spec: CarrierSpec, vol: int) -> dict[str, list[int]]:
     """Pin surfaces by distance from each pin axis; plate outer faces by z; rest other."""
-    from meshing.gear_body import _sample_surface
-
     z_out = spec.plate_z[1]
     r_pin = 0.5 * spec.pin_diameter
     centres = [
@@ -129,7 +135,7 @@ def classify_surfaces(gmsh, spec: CarrierSpec, vol: int) -> dict[str, list[int]]
     ]
     out: dict[str, list[int]] = {}
     for _, s in gmsh.model.getBoundary([(3, vol)], combined=False, oriented=False):
-        xyz = _sample_surface(gmsh, s)
+        xyz = sample_surface(gmsh, s)
         name = T.carrier_surface(T.OTHER)
         if np.all(np.abs(xyz[:, 2] - z_out) < 1e-6):
             name = T.carrier_surface(T.PLATE_ZPOS)
@@ -144,8 +150,6 @@ def classify_surfaces(gmsh, spec: CarrierSpec, vol: int) -> dict[str, list[int]]
 
 
 def build_carrier_mesh(gmsh, spec: CarrierSpec, level: int) -> dict:
-    from meshing.gear_body import add_physical_groups, enforce_quality, mesh_options, mesh_stats
-
     lv = sizing.check_level(level)
     t0 = time.perf_counter()
     vol = build_geometry(gmsh, spec)
@@ -171,8 +175,6 @@ def build_carrier_mesh(gmsh, spec: CarrierSpec, level: int) -> dict:
 
 def carrier_mesh_file(spec: CarrierSpec, level: int, comm=None, rebuild=False):
     """``(msh_path, meta)`` of the carrier mesh, from the cache or built on rank 0."""
-    from meshing import cache, gmsh_util
-
     spec.validate()
     sizing.check_level(level)
 
@@ -187,18 +189,21 @@ def carrier_mesh_file(spec: CarrierSpec, level: int, comm=None, rebuild=False):
     )
 
 
-def default_carrier(case: str = "case1", pin_diameter: float = 16.0) -> CarrierSpec:
-    """The carrier of a case: pins at the planet angles on the sun-pinion centre distance."""
-    from cases.gearset import load_gearset
-    from meshing.scenes import planet_angles
-
-    gs = load_gearset(case)
-    sun, ring = gs.gears["sun"], gs.gears["ring"]
-    pinion = gs.gears[gs.power_path[1]]
+def carrier_spec(gearset, pin_diameter: float = 16.0) -> CarrierSpec:
+    """The carrier of a single-pinion gear set: one pin per pinion at the carrier angles the
+    assembly condition allows nearest to equal spacing, on the sun-pinion centre distance."""
+    path = gearset.power_path
+    if len(path) != 3:
+        raise MeshingError(
+            f"{gearset.name}: the carrier is modelled for single-pinion sets only (the "
+            "double-pinion carrier with SP and RP pins is not built yet)"
+        )
+    sun, pinion, ring = (gearset.gears[n] for n in path)
+    angles = assemblable_angles(sun.teeth, ring.teeth, gearset.planets)
     return CarrierSpec(
         pin_diameter=pin_diameter,
-        pin_circle_radius=gs.meshes[0].centre_distance,
-        pin_angles=tuple(planet_angles(sun.teeth, ring.teeth, gs.planets)),
+        pin_circle_radius=gearset.meshes[0].centre_distance,
+        pin_angles=tuple(float(a) for a in angles),
         pinion_face_width=pinion.face_width,
         plate_inner_radius=sun.tip_radius + 1.5,
         plate_outer_radius=ring.tip_radius - 2.5,

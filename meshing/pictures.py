@@ -11,9 +11,12 @@ from pathlib import Path
 
 import numpy as np
 
+from meshing import gmsh_util
 from meshing import tags as T
 
-_COLOURS = ["#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#edc948", "#b07aa1"]
+# pyvista is heavy: it is imported lazily, inside the functions that draw.
+
+BODY_COLOURS = ["#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#edc948", "#b07aa1"]
 
 
 def surface_polydata(msh_path: Path):
@@ -21,8 +24,6 @@ def surface_polydata(msh_path: Path):
     arrays ``body`` (index into the returned body list) and ``fine`` (1 on flanks and
     fillets of active teeth)."""
     import pyvista as pv
-
-    from meshing import gmsh_util
 
     with gmsh_util.session("picture") as gm:
         gm.merge(str(msh_path))
@@ -78,7 +79,7 @@ def scene_picture(
             part = poly.extract_cells(np.flatnonzero(poly.cell_data["body"] == i))
             plotter.add_mesh(
                 part,
-                color=_COLOURS[i % len(_COLOURS)],
+                color=BODY_COLOURS[i % len(BODY_COLOURS)],
                 opacity=0.25 if body == T.CARRIER else 1.0,
                 show_edges=view != "xy",
                 edge_color="#333333",

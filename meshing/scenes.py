@@ -1,34 +1,22 @@
-"""Scenes: the bodies of a case placed at one mesh position, in phase, with the teeth in mesh.
+"""Scenes: the bodies of a gear set placed at one mesh position, in phase, teeth in mesh.
 
-Frames and senses. Scene frame: the sun (and ring) axis is the z axis, z = 0 at mid face
-width of every body. A body is turned about its own axis by its placement angle and moved
-to its centre (:class:`meshing.assemble.Placement`). The mesh position is the sun's roll
-angle ``roll`` (rad, its placement angle). Under load the sun turns counter-clockwise
-(omega = +1) with the carrier held: case 1 pinions turn clockwise and the ring clockwise;
-case 2 SP clockwise, RP and ring counter-clockwise.
+A scene is built from a gear set it is handed (:class:`cases.gearset.GearSet`, never loaded
+by name here) and the sun's roll angle. The power path sun -> pinion(s) -> ring gives one
+branch: a single pinion at the sun-pinion centre distance, or a sun pinion (SP) and a ring
+pinion (RP) at the triangle the three centre distances fix (the RP axis lies on the RP-ring
+centre distance from the sun axis). Each gear is placed by :func:`meshing.mesh_zones.
+solve_mesh` so its drive flank touches its driver's on the line of action.
 
-Drive and coast flanks. The drive flank of a driving gear is the flank that faces its
-direction of rotation: ``pos`` for omega = +1, ``neg`` for omega = -1 (external gears). On
-an involute mesh the driven gear's drive flank is its flank with the same sense of
-unwinding as the driver's (for external and internal meshes alike), so the sun's ``pos``
-flank drives the pinion's ``pos`` flank, and the pinion's ``neg`` flank the ring's ``neg``
-flank. Each :class:`MeshZone` states these sides; the other flanks are the coast flanks.
+The registry :data:`SCENES` holds the scenes a study case may name (``model.scene``):
 
-Phase. Derived from the involute geometry, not by search: with the line of action tangent
-to both base circles at angle tau (external: tau = gamma + s alpha_w from the driver centre
-towards the driven one; internal: from the ring centre towards the pinion), a driver flank
-whose base-circle start angle is theta0 touches the line of action at roll t = s (tau -
-theta0), the point T + r_b t d. The driven flank through that point with normal -d (the same
-line) has roll t' from its own tangency point (external: r_b1 t + r_b2 t' = a sin alpha_w;
-internal: r_b2 t' = r_b1 t + a sin alpha_w), which fixes its theta0 and hence its placement
-angle. With the base helix angles equal the contact stays on the line of action across the
-face width, so the drive flanks touch along the theoretical contact lines; the coast flanks
-are then apart by the pair's backlash (zero for the cases' zero-backlash shifts).
+* ``one_branch``: one branch on the +x axis; sectors of sun and ring around the mesh zones
+  (the teeth in contact, one more refined tooth each side, one more unrefined) and the full
+  pinion(s). Three equal branches on a rigid carrier share the torque equally.
+* ``all_planets``: every branch at the carrier angles nearest to equal spacing that the
+  assembly condition allows (:func:`gears.analytic.phasing.assemblable_angles`), with the
+  full sun and ring.
 
-What is modelled. A one-branch scene meshes sectors of the sun and ring around the mesh
-zones (the teeth in contact, one more tooth each side refined, one more unrefined) and the
-full pinion(s); ``report()`` lists what is left out (other pinions, the rest of sun and
-ring, carrier unless asked for).
+``Scene.report()`` lists what each scene leaves out.
 """
 
 from __future__ import annotations
@@ -36,11 +24,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-import numpy as np
-
+from cases.study_case import SCENES as SCENE_NAMES
+from gears.analytic.phasing import assemblable_angles
 from meshing import tags as T
 from meshing.assemble import Placement
+from meshing.carrier import carrier_spec
 from meshing.gear_body import GearBody
+from meshing.mesh_zones import (
+    MeshZone,
+    PlacedGear,
+    contact_lines,
+    flank_separation,
+    solve_mesh,
+    unit,
+)
 from meshing.sizing import MeshingError
 
 # Body dimensions the gear data do not give (mm). Bores carry the needle bearings: pin
@@ -57,103 +54,32 @@ def pinion_bore_radius(pin_diameter: float = PIN_DIAMETER) -> float:
     return 0.5 * pin_diameter + NEEDLE_DIAMETER
 
 
-def _e(a):
-    return np.array([math.cos(a), math.sin(a)])
-
-
-def _eperp(a):
-    return np.array([-math.sin(a), math.cos(a)])
-
-
-@dataclass(frozen=True)
-class Flank:
-    """Involute of tooth 0's ``side`` at z = 0 in the gear frame: polar angle
-    theta0 + s inv(alpha(r)); roll t = tan(alpha) runs from ``t_form`` to ``t_tip``."""
-
-    side: str
-    s: int  # +1: polar angle grows with radius, -1: falls
-    theta0: float
-    rb: float
-    t_form: float
-    t_tip: float
-
-
-def flank_of(gear, side: str) -> Flank:
-    """The involute parameters of ``side`` of ``gear`` from its exact profile points."""
-    from meshing.gear_geometry import tooth_profile
-
-    prof = tooth_profile(gear, 20, 4)
-    pts = np.asarray(prof.flank_pos if side == "pos" else prof.flank_neg)
-    r = np.hypot(pts[:, 0], pts[:, 1])
-    th = np.arctan2(pts[:, 1], pts[:, 0])
-    rb = gear.base_radius
-    alpha = np.arccos(np.minimum(rb / r, 1.0))
-    inv = np.tan(alpha) - alpha
-    s = 1 if (th[-1] - th[0]) * (r[-1] - r[0]) > 0 else -1
-    theta0 = th - s * inv
-    if np.ptp(theta0) > 1e-9:
-        raise RuntimeError(f"{gear.name}.{side}: flank is not an involute of the base circle")
-    t = np.tan(alpha)
-    return Flank(side, s, float(theta0.mean()), rb, float(t[0]), float(t[-1]))
-
-
-def flank_sides(gear) -> dict[int, str]:
-    """Map unwinding sense s -> side name for ``gear``."""
-    return {flank_of(gear, side).s: side for side in ("pos", "neg")}
-
-
-@dataclass(frozen=True)
-class PlacedGear:
-    body: GearBody
-    placement: Placement
-    omega: int  # sense of rotation under load (+1 counter-clockwise)
-    active_teeth: tuple[int, ...] = ()  # refined teeth (flanks and fillets fine)
-    contact_teeth: tuple[int, ...] = ()  # teeth in contact at this mesh position
-
-    @property
-    def name(self) -> str:
-        return self.body.body
-
-    @property
-    def gear(self):
-        return self.body.gear
-
-
-@dataclass(frozen=True)
-class MeshZone:
-    """One gear mesh at the scene's mesh position (scene frame, transverse plane z = 0)."""
-
-    driver: str
-    driven: str
-    internal: bool
-    driver_side: str  # drive flanks
-    driven_side: str
-    centre_distance: float
-    pressure_angle: float  # operating transverse, rad
-    gamma: float  # polar angle of the centre line (driver -> driven; ring -> pinion)
-    tau: float  # polar angle of the base-circle tangency, about the driver (ext) / ring (int)
-    direction: tuple[float, float]  # unit direction of the line of action (driver push)
-    tangency: tuple[float, float]  # driver's base-circle tangency point T (scene frame)
-    window: tuple[float, float]  # driver roll length range in contact (from T), mm
-    backlash: float  # circumferential backlash of the pair, mm (coast side)
-    contact_lines: tuple = ()  # ((driver tooth, driven tooth, points (N, 3)), ...)
-
-    @property
-    def coast_sides(self) -> tuple[str, str]:
-        other = {"pos": "neg", "neg": "pos"}
-        return other[self.driver_side], other[self.driven_side]
-
-
 @dataclass(frozen=True)
 class Scene:
     name: str
-    case: str
+    gearset: str  # name of the gear set
     roll: float
     gears: tuple[PlacedGear, ...]
     zones: tuple[MeshZone, ...]
     left_out: tuple[str, ...] = ()
     carrier: object | None = None  # meshing.carrier.CarrierSpec
     notes: tuple[str, ...] = field(default=())
+    branches: int = 1  # branches (pinion or pinion pair) of the set this scene holds
+
+    @property
+    def sun_name(self) -> str:
+        """The sun: first of :attr:`gears`."""
+        return self.gears[0].name
+
+    @property
+    def ring_name(self) -> str:
+        """The ring: last of :attr:`gears`."""
+        return self.gears[-1].name
+
+    @property
+    def pinion_names(self) -> tuple[str, ...]:
+        """The pinions, branch by branch along the power path."""
+        return tuple(g.name for g in self.gears[1:-1])
 
     def gear(self, name: str) -> PlacedGear:
         for g in self.gears:
@@ -184,7 +110,7 @@ class Scene:
     def report(self) -> dict:
         return {
             "scene": self.name,
-            "case": self.case,
+            "gearset": self.gearset,
             "roll_rad": self.roll,
             "bodies": {
                 g.name: {
@@ -209,129 +135,10 @@ class Scene:
                 }
                 for z in self.zones
             ],
+            "branches": self.branches,
             "left_out": list(self.left_out),
             "notes": list(self.notes),
         }
-
-
-# --------------------------------------------------------------------------------------
-# mesh geometry
-# --------------------------------------------------------------------------------------
-
-
-def _roll_at(r: float, rb: float) -> float:
-    return math.sqrt(max(r * r - rb * rb, 0.0))
-
-
-def solve_mesh(
-    drv_gear, drv_pl: Placement, drv_omega: int, dvn_gear, dvn_centre, check_pair=True
-) -> tuple[float, MeshZone]:
-    """Placement angle of the driven gear that puts its drive flank on the driver's at the
-    line of action, and the mesh zone. The driver is external; the driven gear external or
-    internal (ring, coaxial with the scene axis)."""
-    from meshing.gear_geometry import GearPair
-
-    internal = bool(dvn_gear.internal)
-    ca = np.asarray(drv_pl.centre, float)
-    cb = np.asarray(dvn_centre, float)
-    a = float(np.linalg.norm(cb - ca))
-    pair = GearPair(drv_gear, dvn_gear, a)
-    backlash = pair.backlash
-    if check_pair and backlash < -1e-9:
-        raise MeshingError(
-            f"{drv_gear.name}/{dvn_gear.name}: centre distance {a:.4f} mm gives backlash "
-            f"{backlash * 1e3:.2f} um < 0: the teeth interpenetrate (the shifts of the gears "
-            "need a larger distance for an external mesh)"
-        )
-    s = -drv_omega  # drive flank of an external driver faces its rotation
-    fa = flank_of(drv_gear, flank_sides(drv_gear)[s])
-    fb = flank_of(dvn_gear, flank_sides(dvn_gear)[s])
-    rba, rbb = fa.rb, fb.rb
-    if internal:
-        gamma = math.atan2(*(ca - cb)[::-1])
-        alpha_w = math.acos((rbb - rba) / a)
-    else:
-        gamma = math.atan2(*(cb - ca)[::-1])
-        alpha_w = math.acos((rba + rbb) / a)
-    if not math.isclose(alpha_w, pair.operating_pressure_angle, abs_tol=1e-9):
-        raise RuntimeError("operating pressure angle disagrees with GearPair")
-    tau = gamma + s * alpha_w
-    d = -s * _eperp(tau)
-    g_len = a * math.sin(alpha_w)
-    ta = s * (tau - (fa.theta0 + drv_pl.angle))  # driver tooth 0 at z = 0
-    if internal:
-        tb = (rba * ta + g_len) / rbb
-        tau_b = tau
-    else:
-        tb = (g_len - rba * ta) / rbb
-        tau_b = tau + math.pi
-    theta0_b = tau_b - s * tb
-    pitch_b = 2 * math.pi / dvn_gear.teeth
-    angle_b = (theta0_b - fb.theta0) % pitch_b
-    # Contact window on the driver's roll length (from its tangency point T).
-    la_a = _roll_at(drv_gear.tip_radius, rba)
-    la_b = _roll_at(dvn_gear.tip_radius, rbb)
-    lo = (la_b - g_len) if internal else (g_len - la_b)
-    lo = max(lo, _roll_at(drv_gear.form_radius, rba))
-    zone = MeshZone(
-        driver=drv_gear.name,
-        driven=dvn_gear.name,
-        internal=internal,
-        driver_side=fa.side,
-        driven_side=fb.side,
-        centre_distance=a,
-        pressure_angle=alpha_w,
-        gamma=gamma,
-        tau=tau,
-        direction=(float(d[0]), float(d[1])),
-        tangency=tuple(float(v) for v in ca + rba * _e(tau)),
-        window=(float(lo), float(la_a)),
-        backlash=float(backlash),
-    )
-    return float(angle_b), zone
-
-
-def contact_lines(zone: MeshZone, drv: PlacedGear, dvn: PlacedGear, n=41, coast=False):
-    """Theoretical contact lines of the zone: per driver tooth in contact, the points
-    (scene frame) of its drive flank on the line of action within the contact window and
-    the common face width, with the index of the driven tooth they touch.
-
-    ``coast=True``: the same for the coast flanks (the line of action mirrored about the
-    centre line); the driven coast flank is then the normal backlash away from the points.
-    """
-    ga, gb = drv.gear, dvn.gear
-    side_a, side_b = zone.coast_sides if coast else (zone.driver_side, zone.driven_side)
-    fa = flank_of(ga, side_a)
-    s = fa.s
-    tau = zone.gamma + s * zone.pressure_angle if coast else zone.tau
-    ca = np.asarray(drv.placement.centre, float)
-    T0 = ca + fa.rb * _e(tau)
-    d = -s * _eperp(tau)
-    b = min(ga.face_width, gb.face_width)
-    zs = np.linspace(-0.5 * b, 0.5 * b, n)
-    pitch_a = 2 * math.pi / ga.teeth
-    t_lo, t_hi = (w / fa.rb for w in zone.window)
-    sb = 1 if side_b == "pos" else -1
-    pitch_b = 2 * math.pi / gb.teeth
-    out = []
-    for k in range(ga.teeth):
-        theta0 = fa.theta0 + k * pitch_a + drv.placement.angle + ga.helix_rotation(zs)
-        t = s * (((tau - theta0) + math.pi) % (2 * math.pi) - math.pi)
-        inside = (t >= t_lo - 1e-12) & (t <= t_hi + 1e-12)
-        if not inside.any():
-            continue
-        p2 = T0[None, :] + (fa.rb * t[inside])[:, None] * d[None, :]
-        pts = np.c_[p2, zs[inside]]
-        local = dvn.placement.inverse(pts)
-        th = np.arctan2(local[:, 1], local[:, 0]) - gb.helix_rotation(local[:, 2])
-        j = int(np.round(np.median(th) / pitch_b - 0.25 * sb)) % gb.teeth
-        out.append((k, j, pts))
-    return tuple(out)
-
-
-def normal_backlash(zone: MeshZone, drv: PlacedGear) -> float:
-    """Backlash of the zone normal to the flanks: j_wt cos(alpha_wt) cos(beta_b) (mm)."""
-    return zone.backlash * math.cos(zone.pressure_angle) * math.cos(drv.gear.base_helix_angle)
 
 
 def _widen(contact, z: int, margin: int) -> set[int]:
@@ -379,57 +186,6 @@ def _check_phase(scene_name: str, zone: MeshZone, drv: PlacedGear, dvn: PlacedGe
         )
 
 
-def flank_separation(zone: MeshZone, drv: PlacedGear, dvn: PlacedGear, n_r=15, n_z=15):
-    """Separations (mm, exact geometry) of the driver's flanks from the driven gear's: the
-    drive (and coast) flank surfaces of the driver's teeth near the zone are sampled on an
-    (n_r x n_z) grid per tooth and measured with ``involute_deviation`` of the driven gear's
-    drive (coast) flank, where they lie within the driven gear's involute radii."""
-    from meshing.gear_geometry import involute_deviation
-
-    ga, gb = drv.gear, dvn.gear
-    b = min(ga.face_width, gb.face_width)
-    zs = np.linspace(-0.5 * b, 0.5 * b, n_z)
-    r_lo_b, r_hi_b = sorted((gb.form_radius, gb.tip_radius))
-    res = {}
-    for label, side_a, side_b in (
-        ("drive", zone.driver_side, zone.driven_side),
-        ("coast", zone.coast_sides[0], zone.coast_sides[1]),
-    ):
-        fa = flank_of(ga, side_a)
-        t = np.linspace(fa.t_form, fa.t_tip, n_r)
-        r = fa.rb * np.sqrt(1 + t * t)
-        polar = fa.theta0 + fa.s * (t - np.arctan(t))
-        teeth = set()
-        for k, _, _ in zone.contact_lines:
-            teeth.update({k - 1, k, k + 1})
-        vals = []
-        for k in sorted(teeth):
-            ang = polar[:, None] + ga.helix_rotation(zs)[None, :] + k * 2 * math.pi / ga.teeth
-            x = r[:, None] * np.cos(ang)
-            y = r[:, None] * np.sin(ang)
-            pts = np.stack([x, y, np.broadcast_to(zs, x.shape)], -1).reshape(-1, 3)
-            scene_pts = drv.placement.apply(pts)
-            local = dvn.placement.inverse(scene_pts)
-            rb_ = np.hypot(local[:, 0], local[:, 1])
-            keep = (rb_ >= r_lo_b) & (rb_ <= r_hi_b)
-            if keep.any():
-                vals.append(involute_deviation(gb, local[keep], side_b))
-        v = np.concatenate(vals) if vals else np.array([np.inf])
-        res[f"min_{label}"] = float(v.min())
-    return res
-
-
-# --------------------------------------------------------------------------------------
-# case scenes
-# --------------------------------------------------------------------------------------
-
-
-def _gearset(case: str):
-    from cases.gearset import load_gearset
-
-    return load_gearset(case)
-
-
 def _finish_gear(pg: PlacedGear, contact: list[int], full: bool, radius_kw: dict) -> PlacedGear:
     g = pg.gear
     active = _widen(contact, g.teeth, ACTIVE_MARGIN)
@@ -442,169 +198,161 @@ def _finish_gear(pg: PlacedGear, contact: list[int], full: bool, radius_kw: dict
     )
 
 
-def planet_angles(z_sun: int, z_ring: int, n: int) -> list[float]:
-    """Carrier angles of n planets as near equal spacing as the assembly condition allows:
-    multiples of 2 pi / (z_sun + z_ring) (a single pinion planetary)."""
-    step = 2 * math.pi / (z_sun + z_ring)
-    return [round(2 * math.pi * k / n / step) * step for k in range(n)]
+def branch_centres(gearset, psi: float, rp_side: int = +1, radial_offset: float = 0.0):
+    """Centres (scene frame, mm) of the pinions of the branch at carrier angle ``psi``.
+
+    Single pinion: at the sun-pinion centre distance a1 (+ ``radial_offset``). Double
+    pinion: SP at a1 (+ ``radial_offset``) on the angle ``psi``, RP at the RP-ring centre
+    distance a3 on ``psi + rp_side psi_t``, psi_t = acos((a1^2 + a3^2 - a2^2) / (2 a1 a3))
+    the triangle's angle at the sun (``rp_side`` +1: RP counter-clockwise of SP).
+    """
+    a = [m.centre_distance for m in gearset.meshes]
+    pinions = gearset.power_path[1:-1]
+    if len(pinions) == 1:
+        return [(a[0] + radial_offset) * unit(psi)]
+    if len(pinions) == 2:
+        if rp_side not in (1, -1):
+            raise MeshingError(f"rp_side = {rp_side!r}: must be +1 or -1")
+        a1, a2, a3 = a
+        psi_t = math.acos((a1 * a1 + a3 * a3 - a2 * a2) / (2 * a1 * a3))
+        return [(a1 + radial_offset) * unit(psi), a3 * unit(psi + rp_side * psi_t)]
+    raise MeshingError(
+        f"{gearset.name}: power path {gearset.power_path}: scenes hold one or two pinions per "
+        "branch"
+    )
 
 
-def case1_scene(
+def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, radial_offset):
+    """Pinions of one branch placed in mesh along the power path, their zones, and the ring
+    placement angle the branch asks for. The sun turns counter-clockwise (omega = +1); each
+    external mesh reverses the sense, the internal mesh keeps it."""
+    centres = branch_centres(gearset, psi, rp_side, radial_offset)
+    drv, drv_pl, omega = sun, sun_pl, +1
+    placed, zones = [], []
+    for pname, gname, c in zip(names, gearset.power_path[1:-1], centres, strict=True):
+        p_gear = replace(gearset.gears[gname], name=pname)
+        ang, zone = solve_mesh(drv, drv_pl, omega, p_gear, c)
+        p_pl = Placement(ang + offsets.pop(pname, 0.0), (float(c[0]), float(c[1])))
+        placed.append(PlacedGear(GearBody(p_gear, **pin_kw), p_pl, -omega, set_gear=gname))
+        zones.append(zone)
+        drv, drv_pl, omega = p_gear, p_pl, -omega
+    ring = gearset.gears[gearset.power_path[-1]]
+    ang_r, zone = solve_mesh(drv, drv_pl, omega, ring, (0.0, 0.0))
+    zones.append(zone)
+    return placed, zones, ang_r, omega
+
+
+def planetary_scene(
+    gearset,
     roll: float = 0.0,
-    branches: int = 1,
+    all_planets: bool = False,
     phase_offsets: dict | None = None,
     pinion_radial_offset: float = 0.0,
     pin_diameter: float = PIN_DIAMETER,
     carrier: bool = False,
+    rp_side: int = +1,
 ) -> Scene:
-    """Case 1 (sun, pinion(s), ring) at sun angle ``roll``.
+    """The gear set at sun angle ``roll`` (rad): one branch on +x, or every branch.
 
-    ``branches=1``: one pinion on +x with sectors of sun and ring; ``branches=3``: all
-    pinions (at the assembly-condition angles nearest to 120 deg spacing) with full sun and
-    ring. ``phase_offsets`` (body -> rad) turns bodies away from the theoretical phase and
-    ``pinion_radial_offset`` (mm) moves the pinion(s) off the printed centre distance; both
-    are checked on exact geometry and a scene that interpenetrates raises
-    :class:`MeshingError` before any meshing.
+    ``phase_offsets`` (body -> rad) turns bodies away from the theoretical phase and
+    ``pinion_radial_offset`` (mm) moves the first pinion of each branch off its centre
+    distance; both are checked on exact geometry and a scene that interpenetrates raises
+    :class:`MeshingError` before any meshing. ``carrier`` adds the carrier body.
     """
     roll = _validate_roll(roll)
-    if branches not in (1, 3):
-        raise MeshingError(f"branches = {branches!r}: must be 1 (one branch) or 3 (all pinions)")
-    gs = _gearset("case1")
-    sun, pinion, ring = gs.gears["sun"], gs.gears["pinion"], gs.gears["ring"]
-    a = gs.meshes[0].centre_distance + pinion_radial_offset
+    path = gearset.power_path
+    sun, ring = gearset.gears[path[0]], gearset.gears[path[-1]]
+    pinions = path[1:-1]
+    double = len(pinions) == 2
     offsets = dict(phase_offsets or {})
-    sun_pl = Placement(roll + offsets.pop("sun", 0.0))
+    sun_pl = Placement(roll + offsets.pop(path[0], 0.0))
     sun_kw = {"inner_radius": SUN_BORE_RADIUS}
     pin_kw = {"inner_radius": pinion_bore_radius(pin_diameter)}
     ring_kw = {"outer_radius": ring.root_radius + RING_RIM_THICKNESS}
-    if branches == 1:
-        angles = [0.0]
-        names = ["pinion"]
+    if all_planets:
+        n = gearset.planets
+        angles = [float(x) for x in assemblable_angles(sun.teeth, ring.teeth, n, double)]
+        branch_names = [[f"{p}{k + 1}" for p in pinions] for k in range(n)]
     else:
-        angles = planet_angles(sun.teeth, ring.teeth, 3)
-        names = ["pinion1", "pinion2", "pinion3"]
-    pg_sun = PlacedGear(GearBody(sun, **sun_kw), sun_pl, +1)
-    zones, pinions = [], []
-    ring_angle = None
-    ring_angles = []
-    for psi, pname in zip(angles, names, strict=True):
-        centre = a * _e(psi)
-        p_gear = replace(pinion, name=pname)
-        ang_p, z1 = solve_mesh(sun, sun_pl, +1, p_gear, centre)
-        p_pl = Placement(ang_p + offsets.pop(pname, 0.0), (float(centre[0]), float(centre[1])))
-        ang_r, z2 = solve_mesh(p_gear, p_pl, -1, ring, (0.0, 0.0))
+        angles = [0.0]
+        branch_names = [list(pinions)]
+    placed, zones, ring_angles = [], [], []
+    for psi, names in zip(angles, branch_names, strict=True):
+        pg, zn, ang_r, ring_omega = _place_branch(
+            gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, pinion_radial_offset
+        )
+        placed += pg
+        zones += zn
         ring_angles.append(ang_r)
-        if ring_angle is None:
-            ring_angle = ang_r
-        pinions.append(PlacedGear(GearBody(p_gear, **pin_kw), p_pl, -1))
-        zones += [z1, z2]
     pitch_r = 2 * math.pi / ring.teeth
     for k, ang in enumerate(ring_angles):
-        mis = ((ang - ring_angle + 0.5 * pitch_r) % pitch_r) - 0.5 * pitch_r
+        mis = ((ang - ring_angles[0] + 0.5 * pitch_r) % pitch_r) - 0.5 * pitch_r
         if abs(mis) * ring.base_radius > 1e-6:
             raise MeshingError(
-                f"case1: pinion {names[k]} at carrier angle {math.degrees(angles[k]):.3f} deg "
-                f"is out of phase with the ring by {mis * ring.base_radius * 1e3:.2f} um "
+                f"{gearset.name}: branch {k + 1} at carrier angle {math.degrees(angles[k]):.3f} "
+                f"deg is out of phase with the ring by {mis * ring.base_radius * 1e3:.2f} um "
                 "(assembly condition)"
             )
-    ring_pl = Placement(ring_angle + offsets.pop("ring", 0.0))
+    ring_pl = Placement(ring_angles[0] + offsets.pop(path[-1], 0.0))
     if offsets:
         raise MeshingError(f"phase_offsets: unknown bodies {sorted(offsets)}")
-    pg_ring = PlacedGear(GearBody(ring, **ring_kw), ring_pl, -1)
-    return _assemble_scene(
-        f"case1-{'branch' if branches == 1 else 'all'}",
-        "case1",
-        roll,
-        [pg_sun, *pinions, pg_ring],
-        zones,
-        full={"sun": branches > 1, "ring": branches > 1, **{n: True for n in names}},
-        radius_kw={"sun": sun_kw, "ring": ring_kw, **{n: pin_kw for n in names}},
-        left_out=(
-            [
-                "pinions 2 and 3 (equal load sharing: one branch)",
-                "sun and ring outside the sectors (rigid there)",
-            ]
-            if branches == 1
-            else []
-        )
-        + ([] if carrier else ["carrier (rigid)"]),
-        carrier=_carrier_spec(pin_diameter) if carrier else None,
-        notes=[
-            f"planet angles (deg): {[round(math.degrees(x), 4) for x in angles]}; "
-            f"z_sun + z_ring = {sun.teeth + ring.teeth} is not divisible by 3, so three "
-            "pinions cannot be equally spaced"
-        ]
-        if branches == 3
-        else [],
-    )
-
-
-def case2_scene(
-    roll: float = 0.0,
-    rp_side: int = +1,
-    phase_offsets: dict | None = None,
-    pin_diameter: float = PIN_DIAMETER,
-    carrier: bool = False,
-) -> Scene:
-    """Case 2-B (sun, SP, RP, ring), one branch: SP on +x, RP on the side ``rp_side`` (+1:
-    counter-clockwise of SP about the sun) at the triangle the three centre distances fix."""
-    roll = _validate_roll(roll)
-    if rp_side not in (1, -1):
-        raise MeshingError(f"rp_side = {rp_side!r}: must be +1 or -1")
-    gs = _gearset("case2")
-    sun, sp, rp, ring = (gs.gears[n] for n in ("sun", "SP", "RP", "ring"))
-    a1, a2, a3 = (m.centre_distance for m in gs.meshes)
-    psi = math.acos((a1 * a1 + a3 * a3 - a2 * a2) / (2 * a1 * a3))  # angle at the sun centre
-    offsets = dict(phase_offsets or {})
-    sun_pl = Placement(roll + offsets.pop("sun", 0.0))
-    c_sp = a1 * _e(0.0)
-    c_rp = a3 * _e(rp_side * psi)
-    ang_sp, z1 = solve_mesh(sun, sun_pl, +1, sp, c_sp)
-    sp_pl = Placement(ang_sp + offsets.pop("SP", 0.0), tuple(float(v) for v in c_sp))
-    ang_rp, z2 = solve_mesh(sp, sp_pl, -1, rp, c_rp)
-    rp_pl = Placement(ang_rp + offsets.pop("RP", 0.0), tuple(float(v) for v in c_rp))
-    ang_r, z3 = solve_mesh(rp, rp_pl, +1, ring, (0.0, 0.0))
-    ring_pl = Placement(ang_r + offsets.pop("ring", 0.0))
-    if offsets:
-        raise MeshingError(f"phase_offsets: unknown bodies {sorted(offsets)}")
-    pin_kw = {"inner_radius": pinion_bore_radius(pin_diameter)}
-    sun_kw = {"inner_radius": SUN_BORE_RADIUS}
-    ring_kw = {"outer_radius": ring.root_radius + RING_RIM_THICKNESS}
     gears = [
         PlacedGear(GearBody(sun, **sun_kw), sun_pl, +1),
-        PlacedGear(GearBody(sp, **pin_kw), sp_pl, -1),
-        PlacedGear(GearBody(rp, **pin_kw), rp_pl, +1),
-        PlacedGear(GearBody(ring, **ring_kw), ring_pl, +1),
+        *placed,
+        PlacedGear(GearBody(ring, **ring_kw), ring_pl, ring_omega),
     ]
-    theta = math.pi - psi - math.acos((a1 * a1 + a2 * a2 - a3 * a3) / (2 * a1 * a2))
+    pinion_names = [g.name for g in placed]
+    left_out = [] if carrier else ["carrier (rigid)"]
+    notes = []
+    if all_planets:
+        a_deg = [round(math.degrees(x), 4) for x in angles]
+        rule = "z_ring - z_sun" if double else "z_sun + z_ring"
+        steps = ring.teeth - sun.teeth if double else ring.teeth + sun.teeth
+        spacing = "equally spaced" if steps % gearset.planets == 0 else "not equally spaced"
+        notes.append(
+            f"planet angles (deg): {a_deg}; {rule} = {steps}, {gearset.planets} branches: "
+            f"{spacing} (assembly condition)"
+        )
+    else:
+        left_out = [
+            f"the other {gearset.planets - 1} branches (equal load sharing: one branch)",
+            "sun and ring outside the sectors (rigid there)",
+            *left_out,
+        ]
+    if double:
+        psi_t = math.atan2(*branch_centres(gearset, 0.0, rp_side)[1][::-1])
+        notes.append(f"triangle angle at the sun between SP and RP: {math.degrees(psi_t):.3f} deg")
+    full = {path[0]: all_planets, path[-1]: all_planets, **{n: True for n in pinion_names}}
+    radius_kw = {path[0]: sun_kw, path[-1]: ring_kw, **{n: pin_kw for n in pinion_names}}
+    kind = "all" if all_planets else "branch"
     return _assemble_scene(
-        "case2-branch",
-        "case2",
+        f"{gearset.name}-{kind}",
+        gearset.name,
         roll,
         gears,
-        [z1, z2, z3],
-        full={"sun": False, "SP": True, "RP": True, "ring": False},
-        radius_kw={"sun": sun_kw, "SP": pin_kw, "RP": pin_kw, "ring": ring_kw},
-        left_out=[
-            "pinion pairs 2 and 3 (equal load sharing: one branch)",
-            "sun and ring outside the sectors",
-        ]
-        + ([] if carrier else ["carrier (rigid)"]),
-        carrier=None,
-        notes=[
-            f"triangle angles (deg): psi (sun) = {math.degrees(psi):.3f}, theta (SP) = "
-            f"{math.degrees(math.pi - theta - psi):.3f}"
-        ],
+        zones,
+        full=full,
+        radius_kw=radius_kw,
+        left_out=left_out,
+        carrier=carrier_spec(gearset, pin_diameter) if carrier else None,
+        notes=notes,
+        branches=len(angles),
     )
 
 
-def _carrier_spec(pin_diameter):
-    from meshing.carrier import default_carrier
+def branch_scene(gearset, roll: float = 0.0, **options) -> Scene:
+    """``one_branch``: one branch on +x (see :func:`planetary_scene`)."""
+    return planetary_scene(gearset, roll, all_planets=False, **options)
 
-    return default_carrier("case1", pin_diameter)
+
+def all_planets_scene(gearset, roll: float = 0.0, **options) -> Scene:
+    """``all_planets``: every branch, full sun and ring (see :func:`planetary_scene`)."""
+    return planetary_scene(gearset, roll, all_planets=True, **options)
 
 
-def _assemble_scene(name, case, roll, gears, zones, full, radius_kw, left_out, carrier, notes):
+def _assemble_scene(
+    name, gearset, roll, gears, zones, full, radius_kw, left_out, carrier, notes, branches
+):
     by_name = {g.name: g for g in gears}
     # Contact lines and the teeth in contact.
     zones_done = []
@@ -625,18 +373,25 @@ def _assemble_scene(name, case, roll, gears, zones, full, radius_kw, left_out, c
         _check_phase(name, zn, by_name[zn.driver], by_name[zn.driven])
     return Scene(
         name=name,
-        case=case,
+        gearset=gearset,
         roll=roll,
         gears=tuple(placed),
         zones=tuple(zones_done),
         left_out=tuple(left_out),
         carrier=carrier,
         notes=tuple(notes),
+        branches=branches,
     )
 
 
-SCENES = {
-    "case1-branch": lambda **kw: case1_scene(branches=1, **kw),
-    "case1-all": lambda **kw: case1_scene(branches=3, **kw),
-    "case2-branch": lambda **kw: case2_scene(**kw),
-}
+#: The scenes a study case may name (``model.scene``), each ``builder(gearset, roll, **opts)``.
+SCENES = {"one_branch": branch_scene, "all_planets": all_planets_scene}
+if set(SCENES) != set(SCENE_NAMES):  # the case-file vocabulary and this registry are one list
+    raise ImportError(f"meshing.scenes.SCENES {sorted(SCENES)} != cases SCENES {SCENE_NAMES}")
+
+
+def build_scene(kind: str, gearset, roll: float = 0.0, **options) -> Scene:
+    """The scene ``kind`` (a key of :data:`SCENES`) of ``gearset`` at sun angle ``roll``."""
+    if kind not in SCENES:
+        raise MeshingError(f"scene = {kind!r}: must be one of {', '.join(SCENES)}")
+    return SCENES[kind](gearset, roll, **options)

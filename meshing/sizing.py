@@ -4,7 +4,7 @@ Every mesh takes a ``level`` (0 = coarsest, for CI; ``DEFAULT_LEVEL`` for ``make
 A level fixes, in mm (see :class:`Level`): ``fine`` on the flanks of the *active* teeth
 (in or next to a mesh zone, where contact loads are read), ``fillet`` across their root
 fillets (where root stress is read; the fillets are structured strips, see
-:func:`meshing.gear_body.structure_fillets`), ``tooth``/``fillet_far`` on all other teeth,
+:func:`meshing.body_mesh.structure_fillets`), ``tooth``/``fillet_far`` on all other teeth,
 ``coarse`` in the body, and the number of segments around a bore or rim.
 
 The case gears have m_n = 1.59 mm (tooth about 2.5 mm thick at the pitch circle): level 0
@@ -43,7 +43,7 @@ LEVELS: tuple[Level, ...] = (
 DEFAULT_LEVEL = 1
 # Stated minimum element quality (gmsh minSICN, 1 = regular tet, <= 0 inverted) of every
 # mesh at every level; HXT gives 0.19-0.35 on the case bodies, and a mesh below this
-# floor gets the Netgen optimiser (meshing.gear_body.enforce_quality).
+# floor gets the Netgen optimiser (meshing.gmsh_util.enforce_quality).
 MIN_SICN = 0.15
 
 

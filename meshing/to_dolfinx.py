@@ -12,6 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
+from meshing import gmsh_util
+
+# dolfinx and mpi4py are heavy: they are imported lazily, inside the functions that use them.
+
 
 @dataclass
 class MeshBundle:
@@ -54,8 +58,6 @@ def load_msh(path: str | Path, comm, rank: int = 0, meta: dict | None = None) ->
     from dolfinx.io import gmsh as dgmsh
 
     if comm.rank == rank:
-        from meshing import gmsh_util
-
         with gmsh_util.session("load") as gm:
             gm.merge(str(path))
             data = dgmsh.model_to_mesh(gm.model, comm, rank, gdim=3)

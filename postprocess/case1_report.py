@@ -1,6 +1,6 @@
 """Case-1 report: the four single-pinion FE cases side by side with the analytical model.
 
-    python -m postprocess.case1_report --results results
+    python -m studies.case1_report --results results
 
 Reads ``results/<case>/summary.json`` of 1-GA, 1-GB, 1-GC and 1-GB-R (whatever has been
 run) and writes ``results/case1/report.md`` with: the FE means over the mesh positions, the
@@ -12,7 +12,6 @@ and links to each case's contact-pattern panel.
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 from pathlib import Path
@@ -21,8 +20,6 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-
-from cases.study_case import load_study_case
 
 CASES = ("1-GA", "1-GB", "1-GC", "1-GB-R")
 MOMENTS = ("Mx_pin", "My_pin", "M_LOA_sun", "M_LOA_ring")
@@ -47,7 +44,7 @@ def write_report(results: Path) -> Path:
         raise FileNotFoundError(f"no case-1 summary under {results}: run `make case1` first")
     out = results / "case1"
     out.mkdir(parents=True, exist_ok=True)
-    tilt = {n: load_study_case(n).bearing.tilting_stiffness for n in runs}
+    tilt = {n: s["inputs"]["study_case"]["bearing"]["tilting_stiffness"] for n, s in runs.items()}
     lines = [
         "# Case 1, single pinion: FE against the analytical model (singh2007)",
         "",
@@ -177,13 +174,3 @@ def _plots(runs: dict, tilt: dict, out: Path) -> None:
     _plot_against_tilt(runs, tilt, ("ZS", "ZR"), offsets_label,
                        "Case 1 load centroids (black: 1-GB-R)",
                        out / "offsets_vs_tilt.png")  # fmt: skip
-
-
-def main(argv=None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", type=Path, default=Path("results"))
-    print(write_report(ap.parse_args(argv).results))
-
-
-if __name__ == "__main__":
-    main()

@@ -9,23 +9,21 @@ from pathlib import Path
 import numpy as np
 
 from meshing.build import scene_mesh_file
-from meshing.pictures import _COLOURS, save_screenshot, surface_polydata
-from meshing.scenes import case1_scene
+from meshing.pictures import BODY_COLOURS, save_screenshot, surface_polydata
 
 
-def loaded_scene_picture(pos: dict, png_path: Path, title: str) -> Path:
-    """PNG of the case-1 one-branch scene at ``pos["roll"]`` (level ``pos["level"]``), with
-    every contact grid point of both meshes as a sphere coloured by its line load (N/mm).
+def loaded_scene_picture(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
+    """PNG of ``scene`` (the scene ``pos`` was solved in, at level ``level``) with every
+    contact grid point of every mesh as a sphere coloured by its line load (N/mm).
     Serial: call on one rank (the body meshes are already cached by the solve)."""
-    import pyvista as pv
+    import pyvista as pv  # heavy: only when a picture is drawn
 
     pv.OFF_SCREEN = True
-    msh, _ = scene_mesh_file(case1_scene(roll=pos["roll"]), pos["level"])
+    msh, _ = scene_mesh_file(scene, level)
     poly, bodies = surface_polydata(Path(msh))
-    x = np.vstack([np.asarray(pos[f"points_{k}"]["x_mm"]) for k in ("S", "R")])
-    w = np.concatenate(
-        [np.clip(pos[f"points_{k}"]["line_load_N_per_mm"], 0.0, None) for k in ("S", "R")]
-    )
+    meshes = pos["meshes"].values()
+    x = np.vstack([np.asarray(m["points"]["x_mm"]) for m in meshes])
+    w = np.concatenate([np.clip(m["points"]["line_load_N_per_mm"], 0.0, None) for m in meshes])
     cloud = pv.PolyData(x)
     cloud["line load (N/mm)"] = w
     plotter = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1800, 900))
@@ -33,7 +31,8 @@ def loaded_scene_picture(pos: dict, png_path: Path, title: str) -> Path:
         plotter.subplot(0, col)
         for i, body in enumerate(bodies):
             part = poly.extract_cells(np.flatnonzero(poly.cell_data["body"] == i))
-            plotter.add_mesh(part, color=_COLOURS[i % len(_COLOURS)], opacity=0.35, label=body)
+            colour = BODY_COLOURS[i % len(BODY_COLOURS)]
+            plotter.add_mesh(part, color=colour, opacity=0.35, label=body)
         plotter.add_mesh(
             cloud, scalars="line load (N/mm)", cmap="inferno_r", point_size=9,
             render_points_as_spheres=True, clim=(0.0, max(float(w.max()), 1.0)),

@@ -45,7 +45,6 @@ multi-RHS solves with each body's one factorization (``ensure_columns``).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -56,6 +55,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from cases.study_case import DEFAULTS
 from solvers.contact_grid import ContactGrid
 from solvers.elastic_body import ElasticBody
 from solvers.errors import (
@@ -141,7 +141,7 @@ class ContactProblem:
         pairs: Sequence[ContactPair],
         rigid_unknowns: Sequence[RigidUnknown] = (),
         obstacles: Sequence[str] = (),
-        penalty_factor: float = 100.0,
+        penalty_factor: float = DEFAULTS.penalty_factor,
         block_size: int | None = None,
         eager: bool = False,
     ):
@@ -523,12 +523,3 @@ class ContactProblem:
             reduced=red,
             timings=timings,
         )
-
-
-def hertz_line(P: float, R: float, e_star: float) -> dict[str, float]:
-    """Hertz line contact (per unit length P, relative radius R, contact modulus E*).
-
-    a = sqrt(4 P R / (pi E*)),  p0 = 2 P / (pi a) = sqrt(P E* / (pi R)).
-    """
-    a = math.sqrt(4 * P * R / (math.pi * e_star))
-    return {"a": a, "p0": 2 * P / (math.pi * a)}

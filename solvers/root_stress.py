@@ -1,14 +1,14 @@
 """Tooth root (bending) stress from the FE displacement at the fillets of the loaded teeth.
 
-For a solved branch (:func:`solvers.gear_contact.build_branch` + ``problem.solve()``) and
-each gear body, the stress of the FE field
+For a solved gear train (:func:`solvers.gear_train.build_gear_train` + ``problem.solve()``)
+and each gear body, the stress of the FE field
 
     sigma = lambda tr(eps) I + 2 mu eps,   eps = (grad u + grad u^T) / 2      (MPa, mm)
 
 is evaluated at the midpoint of every cell that has a facet on a root fillet
 (``<body>/toothNN/fillet_pos`` and ``fillet_neg``, :mod:`meshing.tags`) of a tooth that
 carries load, i.e. a tooth named in the contact-grid lines of the model (driver and driven
-tooth of every line of :class:`solvers.gear_contact.FlankGridInfo`). For P1 the stress is
+tooth of every line of :class:`solvers.flank_grid.FlankGridInfo`). For P1 the stress is
 constant per cell, so the midpoint value is the cell value; for P2 it is the midpoint value.
 The reported number is the largest maximum principal stress over those cells (tension
 positive), with where it sits: tooth, fillet side (``pos``/``neg``, geometric side of the
@@ -20,9 +20,10 @@ Both fillets of a loaded tooth are searched: the one under the loaded flank is i
 principal stress picks the tension fillet without the side being fixed here; the side found
 is reported and can be checked against the scene's drive flanks.
 
-The pinion carries load at both meshes, on different teeth: it is reported separately for
-the teeth of the sun-pinion lines (``pinion_sun_side``) and of the pinion-ring lines
-(``pinion_ring_side``).
+A gear in one mesh is reported under its own name (``sun``, ``ring``); a pinion carries load
+at two meshes, on different teeth, and is reported per mate: ``<pinion>_<mate>_side`` (case
+1: ``pinion_sun_side`` and ``pinion_ring_side``; case 2: ``SP_sun_side``, ``SP_RP_side``,
+``RP_SP_side``, ``RP_ring_side``), see :func:`loaded_teeth`.
 
 Accuracy: cell stresses of linear tetrahedra at a coarse fillet (a few elements across the
 fillet radius) underestimate the peak surface stress (the cell value is a volume average of a
@@ -43,22 +44,26 @@ import dolfinx.fem
 import numpy as np
 import ufl
 
+from gears.train import mesh_side_keys
 from meshing import tags as tagnames
 
-# (output key, grid name, which tooth of the grid lines)
-LOADED = (
-    ("sun", "sun-pinion", "driver_tooth"),
-    ("pinion_sun_side", "sun-pinion", "driven_tooth"),
-    ("pinion_ring_side", "pinion-ring", "driver_tooth"),
-    ("ring", "pinion-ring", "driven_tooth"),
-)
-BODY = {"sun": "sun", "pinion_sun_side": "pinion", "pinion_ring_side": "pinion", "ring": "ring"}
+
+def loaded_fillets(scene) -> list[tuple[str, str, str, str]]:
+    """(output key, body, grid name, which tooth of the grid lines) per gear and mesh
+    (keys of :func:`gears.train.mesh_side_keys`)."""
+    pairs = [(zn.driver, zn.driven) for zn in scene.zones]
+    which = {1: "driver_tooth", 2: "driven_tooth"}
+    out = []
+    for key, body, mate, i in mesh_side_keys(pairs):
+        grid = f"{body}-{mate}" if i == 1 else f"{mate}-{body}"
+        out.append((key, body, grid, which[i]))
+    return out
 
 
 def loaded_teeth(model) -> dict[str, list[int]]:
-    """Teeth named in the contact-grid lines, per output key (see :data:`LOADED`)."""
+    """Teeth named in the contact-grid lines, per output key (see :func:`loaded_fillets`)."""
     out = {}
-    for key, grid, which in LOADED:
+    for key, _, grid, which in loaded_fillets(model.scene):
         lines = model.grids[grid][1].lines
         out[key] = sorted({int(ln[which]) for ln in lines})
     return out
@@ -119,10 +124,12 @@ def _body_max(body, u, teeth, centre) -> dict:
 
 
 def root_stress(model, result) -> dict:
-    """Fillet stress of the loaded teeth of a solved branch (collective; same on every rank).
+    """Fillet stress of the loaded teeth of a solved gear train (collective; same on every
+    rank).
 
-    Returns ``{sun, pinion_sun_side, pinion_ring_side, ring}`` -> max tensile principal
-    stress (MPa, None if no fillet cell anywhere) and ``locations`` -> per key the tooth,
+    Returns per output key of :func:`loaded_fillets` (case 1: ``sun``, ``pinion_sun_side``,
+    ``pinion_ring_side``, ``ring``) the max tensile principal stress (MPa, None if no fillet
+    cell anywhere) and ``locations`` -> per key the tooth,
     fillet side, z (mm), radius from the body centre (mm), the teeth searched and the number
     of cells.
     """
@@ -131,8 +138,7 @@ def root_stress(model, result) -> dict:
     fields = {}
     out: dict = {}
     locs = {}
-    for key, _, _ in LOADED:
-        name = BODY[key]
+    for key, name, _, _ in loaded_fillets(model.scene):
         b = p.bodies[name]
         if name not in fields:
             fields[name] = b.function(result.displacements[name], name="displacement")

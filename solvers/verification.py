@@ -22,13 +22,16 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
+from cases.study_case import DEFAULTS
+from gears.contact_stress import hertz_line_contact
+from gears.material import STEEL as STEEL_PROPERTIES
 from solvers import simple_meshes as sm
-from solvers.contact import ContactPair, ContactProblem, RigidUnknown, hertz_line
+from solvers.contact import ContactPair, ContactProblem, RigidUnknown
 from solvers.contact_grid import ContactGrid, line_grid_2d
-from solvers.elastic_body import Dirichlet, ElasticBody, Material, Traction
+from solvers.elastic_body import Dirichlet, ElasticBody, Material, Traction, mpi_sum
 from solvers.rigid_coupling import RigidCoupling, bearing
 
-STEEL = Material(210e3, 0.3)
+STEEL = Material(STEEL_PROPERTIES.youngs_modulus, STEEL_PROPERTIES.poisson_ratio)
 ALUMINIUM = Material(70e3, 0.3)
 
 
@@ -38,7 +41,7 @@ def hertz_scene(
     h_min: float = 0.5,
     spacing: float | None = None,
     degree: int = 2,
-    penalty_factor: float = 100.0,
+    penalty_factor: float = DEFAULTS.penalty_factor,
     R: float = 50.0,
     P: float = 35e3,
     prescribed_approach: float | None = None,
@@ -123,7 +126,8 @@ def hertz_reference(info, P: float | None = None) -> dict[str, float]:
     delta(2P) - 2 delta(P) = -2 P ln 2 / (pi E*) exactly (up to O((a/R)^2) of Hertz theory).
     """
     P = info["P"] if P is None else P
-    h = hertz_line(P, info["R"], info["e_star"])
+    a, p0 = hertz_line_contact(P, info["R"], info["e_star"])
+    h = {"a": float(a), "p0": float(p0)}
     h["nonlinearity"] = -2.0 * P * math.log(2.0) / (math.pi * info["e_star"])
     return h
 
@@ -177,8 +181,6 @@ def pinion_bearing_scene(
 
 def applied_resultant(body: ElasticBody) -> tuple[np.ndarray, np.ndarray]:
     """(force, moment about the body centre) of the assembled external load vector."""
-    from solvers.elastic_body import mpi_sum
-
     n = body.n_own
     f = np.zeros((n, body.gdim))
     f[np.arange(n), body.dof_comp[:n]] = body.f.getArray(readonly=True)[:n]
@@ -234,7 +236,7 @@ def planetary_scene(
     k_radial: float = 1e5,
     h_min: float = 0.1,
     degree: int = 2,
-    penalty_factor: float = 100.0,
+    penalty_factor: float = DEFAULTS.penalty_factor,
     spacing: float | None = None,
 ):
     """Sun (torque, rotation unknown) - planet (radial bearing, spin unknown) - fixed ring.
@@ -326,7 +328,7 @@ def roller_scene(
     R: float = 20.0,
     L: float = 10.0,
     q: float = 1.0e4,
-    penalty_factor: float = 100.0,
+    penalty_factor: float = DEFAULTS.penalty_factor,
     spacing: float | None = None,
 ):
     """3D steel roller (R, length L, bore R/3) on a steel block under a line load q (N/mm).
@@ -367,7 +369,7 @@ def roller_scene(
         centre=(0.0, 0.0, 0.0),
     )
     e_star = STEEL.e_plane / 2
-    a = hertz_line(q, R, e_star)["a"]
+    a = float(hertz_line_contact(q, R, e_star)[0])
     nx = max(3, round(2.5 * a / s))
     nz = round(L / s)
     xs = s * np.arange(-nx, nx + 1)

@@ -11,10 +11,11 @@ import math
 from dataclasses import replace
 
 import pytest
+from paper_sets import paper_inputs
 
-from postprocess.analytic import double_pinion as dp
-from postprocess.analytic import printed, study
-from postprocess.analytic import single_pinion as sp
+from gears.analytic import double_pinion as dp
+from gears.analytic import planetary, printed
+from gears.analytic import single_pinion as sp
 
 TORQUE_REL = 0.05 / 1378.7
 ANGLE_PROPAGATION_DEG = 0.002
@@ -26,22 +27,22 @@ def within(value: float, paper: float, unit: float) -> bool:
 
 @pytest.fixture(scope="module")
 def cases():
-    return study.default_inputs()
+    return paper_inputs()
 
 
 @pytest.fixture(scope="module")
 def fz(cases):
-    return study.case2_axial_forces(cases[1])
+    return planetary.double_pinion_axial_forces(cases[1])
 
 
 @pytest.fixture(scope="module")
 def geom_b(cases):
-    return study.double_pinion_geometry(cases[1])
+    return planetary.double_pinion_geometry(cases[1])
 
 
 @pytest.fixture(scope="module")
 def geom_a(cases):
-    return study.double_pinion_geometry(cases[1], theta=math.pi, phi=0.0)
+    return planetary.double_pinion_geometry(cases[1], theta=math.pi, phi=0.0)
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +55,7 @@ def table(fz, geom_a, geom_b):
 
 def test_triangle_angles(cases):
     # Printed to 0.001 deg: half a unit plus the centre-distance rounding propagation.
-    tri = study.case2_triangle(cases[1])
+    tri = planetary.double_pinion_triangle(cases[1])
     for key, value in (("psi", tri.psi), ("theta", tri.theta), ("phi", tri.phi)):
         tol = 0.0005 + ANGLE_PROPAGATION_DEG
         assert math.degrees(value) == pytest.approx(printed.SINGH_ANGLES_2B[key], abs=tol)
@@ -133,7 +134,7 @@ def test_table5_2a_sp_row_is_the_case1_single_pinion(table, cases):
         (262.63, 95.39, -97.88), abs=0.01
     )
     single = sp.concentrated_load(
-        cases[0].torque_per_branch, study.single_pinion_geometry(cases[0])
+        cases[0].torque_per_branch, planetary.single_pinion_geometry(cases[0])
     )
     case1 = {"My_SP": single["My_pin"], "M_SP": single["My_pin"],
              "M_LOA_SP_SUN": single["M_LOA_sun"], "M_LOA_SP_RP": single["M_LOA_ring"]}  # fmt: skip
@@ -145,7 +146,7 @@ def test_table5_2a_sp_row_is_the_case1_single_pinion(table, cases):
 
 def test_2a_formulas_reduce_to_single_pinion(cases, fz):
     # With the case-1 ring mesh in the RP's place, theta = 180 deg gives exactly Table 3.
-    g1 = study.single_pinion_geometry(cases[0])
+    g1 = planetary.single_pinion_geometry(cases[0])
     g = dp.DoublePinionGeometry(g1.r_pin_sun, g1.r_pin_ring, 20.0, 20.0, g1.alpha1, g1.alpha2,
                                 0.3, math.pi, 0.0)  # fmt: skip
     f1 = sp.mesh_forces(cases[0].torque_per_branch, g1)

@@ -8,10 +8,11 @@ import math
 
 import numpy as np
 import pytest
+from paper_sets import paper_inputs
 
-from postprocess.analytic import double_pinion as dp
-from postprocess.analytic import parametric, printed, study
-from postprocess.analytic import single_pinion as sp
+from gears.analytic import double_pinion as dp
+from gears.analytic import parametric, planetary, printed
+from gears.analytic import single_pinion as sp
 
 ANGLES = parametric.TABLE6_PRESSURE_ANGLES_DEG
 
@@ -23,12 +24,12 @@ def rows():
 
 @pytest.fixture(scope="module")
 def cases():
-    return study.default_inputs()
+    return paper_inputs()
 
 
 @pytest.fixture(scope="module")
 def my_case1(cases):
-    g = study.single_pinion_geometry(cases[0])
+    g = planetary.single_pinion_geometry(cases[0])
     return sp.concentrated_load(cases[0].torque_per_branch, g)["My_pin"]
 
 
@@ -79,11 +80,11 @@ def test_fa_r_from_case2_geometry(cases):
     # FA R = 133 is stated, not derived: FA times the case-2 radii gives 131.05 (SP-SUN),
     # 131.58 (SP-RP), 121.46 (RP-SP), 122.42 (RP-RING); only FA times the case-1 R_pR
     # (22.51 mm) rounds to 133 (133.23). Printed FA R to 1 N m: half a unit.
-    fa = study.case2_axial_forces(cases[1]).FzSUN
-    g = study.double_pinion_geometry(cases[1])
+    fa = planetary.double_pinion_axial_forces(cases[1]).FzSUN
+    g = planetary.double_pinion_geometry(cases[1])
     radii = (g.r_sp_sun, g.r_sp_rp, g.r_rp_sp, g.r_rp_ring)
     assert all(abs(fa * r * 1e-3 - parametric.FA_R_PAPER) > 0.5 for r in radii)
-    r_pr = study.single_pinion_geometry(cases[0]).r_pin_ring
+    r_pr = planetary.single_pinion_geometry(cases[0]).r_pin_ring
     assert fa * r_pr * 1e-3 == pytest.approx(parametric.FA_R_PAPER, abs=0.5)
 
 
@@ -122,7 +123,7 @@ def test_case2_worst_points(cases):
     # Section 6 text: worst / single about 1.88 at theta = 111 deg (sun-SP, a1 = 21.30 deg)
     # and about 1.78 at phi = 67 deg (RP-ring, a3 = 22.98 deg). Printed to 0.01 and 1 deg:
     # half a unit.
-    g = study.double_pinion_geometry(cases[1])
+    g = planetary.double_pinion_geometry(cases[1])
     paper = printed.SINGH_CASE2_WORST
     assert parametric.worst_ratio(g.a1) == pytest.approx(paper["sun_SP"]["ratio"], abs=0.005)
     assert math.degrees(parametric.worst_theta(g.a1)) == pytest.approx(

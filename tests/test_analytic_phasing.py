@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from postprocess.analytic import phasing as ph
+from gears.analytic import phasing as ph
 
 L_RANGE = range(1, 25)
 NONZERO_FLOOR = 1e-6  # seven orders of magnitude above the round-off of the sums

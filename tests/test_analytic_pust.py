@@ -9,9 +9,12 @@ import math
 
 import numpy as np
 import pytest
+from paper_sets import paper_inputs
 
-from postprocess.analytic import printed, study
-from postprocess.analytic import radial_stiffness as rs
+from cases.analytic_study import load_analytic_study
+from gears.analytic import planetary, printed
+from gears.analytic import radial_stiffness as rs
+from postprocess.analytic import tables as study
 
 STATED = {"m2": rs.PUST_M2, "m3": rs.PUST_M3, "k_c": rs.PUST_KC, "k_r": rs.PUST_KR}
 
@@ -154,13 +157,14 @@ def test_case1_mesh_radial_stiffness():
     # Extension to case 1: the sun-pinion mesh, Ft = 15419 N at a = 51.945 mm, alpha_wt =
     # 21.30 deg: k_r = -Ft / (a tan alpha_wt) = -761 N/mm; the ring mesh +669 N/mm. Against
     # the pin bearings (2.33e5..2.33e8 N/mm) it is below 0.4 %: negligible for the FE cases.
-    case1, _ = study.default_inputs()
-    c = study.pust_section(case1)["case1"]
+    case1, _ = paper_inputs()
+    radial = load_analytic_study().bearing_radial_stiffness
+    c = study.pust_section(case1, radial)["case1"]
     assert c["k_r_sun_mesh_N_per_mm"] == pytest.approx(-761.4, abs=0.1)
     assert c["k_r_ring_mesh_N_per_mm"] == pytest.approx(668.6, abs=0.1)
     assert max(c["ratio_to_bearing_radial"].values()) < 4e-3
     # Same number as the pust2016 pitch-radius form with the transverse normal force.
-    g = study.single_pinion_geometry(case1)
+    g = planetary.single_pinion_geometry(case1)
     ft = case1.torque_per_branch / (g.r_sun * 1e-3)
     k = rs.k_r_external(ft / math.cos(g.alpha1), g.alpha1, g.r_sun, g.r_pin_sun)
     assert k == pytest.approx(c["k_r_sun_mesh_N_per_mm"], rel=1e-9)

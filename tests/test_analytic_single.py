@@ -10,9 +10,10 @@ moment (0.56 N on FyS, 0.01 N m on My-PIN); the printed centre distance 51.945 m
 import math
 
 import pytest
+from paper_sets import paper_inputs
 
-from postprocess.analytic import printed, study
-from postprocess.analytic import single_pinion as sp
+from gears.analytic import planetary, printed
+from gears.analytic import single_pinion as sp
 
 TORQUE_REL = 0.05 / 1378.7
 CD_ROUNDING = 0.0005  # mm, half the last printed unit of the centre distances
@@ -25,12 +26,12 @@ def within(value: float, paper: float, unit: float) -> bool:
 
 @pytest.fixture(scope="module")
 def case1():
-    return study.default_inputs()[0]
+    return paper_inputs()[0]
 
 
 @pytest.fixture(scope="module")
 def geom(case1):
-    return study.single_pinion_geometry(case1)
+    return planetary.single_pinion_geometry(case1)
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +53,7 @@ def textbook_pair(z1: int, z2: int, a: float, internal: bool):
 
 
 def test_geometry_matches_textbook_formulas(geom):
-    # meshing.gear_geometry against an independent closed form: both exact, so round-off only.
+    # gears.pair against an independent closed form: both exact, so round-off only.
     a_s, r_sun, r_ps, b_s = textbook_pair(35, 26, 51.945, internal=False)
     a_r, r_pr, _, b_r = textbook_pair(26, 86, 51.945, internal=True)
     expected = (r_sun, r_ps, r_pr, a_s, a_r, b_s, b_r)

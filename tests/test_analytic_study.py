@@ -4,14 +4,14 @@ import json
 import math
 
 import pytest
+from paper_sets import paper_inputs, paper_tables
 
-from postprocess.analytic import study
-from postprocess.analytic.__main__ import run
+from studies.analytic import run
 
 
 @pytest.fixture(scope="module")
 def tables():
-    return study.build_tables(*study.default_inputs())
+    return paper_tables()
 
 
 def test_json_contract(tables):
@@ -71,7 +71,7 @@ CENTRE_DISTANCES = {"case1": (51.945, 51.945), "case2": (51.945, 42.750, 58.600)
 
 def test_default_inputs_are_section1_data():
     # The study reads cases/gearsets/*.toml: they must hold exactly the printed gear data.
-    for inp in study.default_inputs():
+    for inp in paper_inputs():
         assert inp.centre_distances == CENTRE_DISTANCES[inp.name]
         assert (inp.input_torque, inp.planets) == (1378.7, 3)
         got = [(g.teeth, g.hand, g.face_width, g.internal) for g in inp.gears]

@@ -1,4 +1,4 @@
-"""Hertz line contact along an involute helical mesh (postprocess.contact_stress) and the
+"""Hertz line contact along an involute helical mesh (gears.contact_stress) and the
 nominal ISO 6336-2 pitch-point contact stress it reduces to."""
 
 import math
@@ -7,8 +7,7 @@ import numpy as np
 import pytest
 
 from cases.gearset import load_gearset
-from meshing.gear_geometry import GearPair, GearSpec
-from postprocess.contact_stress import (
+from gears.contact_stress import (
     contact_modulus,
     flank_curvatures,
     hertz_line_contact,
@@ -18,6 +17,8 @@ from postprocess.contact_stress import (
     path_of_contact,
     position_from_radius,
 )
+from gears.pair import GearPair
+from gears.spec import GearSpec
 
 COMMON = dict(normal_module=1.59, normal_pressure_angle=20.0, helix_angle=21.0)
 TORQUE = 459.57e3  # N mm on the sun per mesh (singh2007.md section 1)
@@ -70,7 +71,7 @@ def test_curvature_invariants(case1):
         r1 = np.hypot(pair.gear1.base_radius, rho_t1)
         np.testing.assert_allclose(position_from_radius(pair, r1), s, atol=1e-12)
         # the tip-to-tip path agrees with the geometry module's path of contact
-        assert s1 - s0 == pytest.approx(pair._path_of_contact[2], rel=1e-12)
+        assert s1 - s0 == pytest.approx(pair.path_of_contact_lengths[2], rel=1e-12)
         # pitch point: R = r_w1 sin(alpha_w) u / ((u + sign) cos(beta_b)), u = z2 / z1
         u = pair.gear2.teeth / pair.gear1.teeth
         r_w1 = pair.operating_pitch_radius(1)
@@ -97,7 +98,7 @@ def test_pitch_point_hertz_equals_iso(case1, capsys):
         full = iso6336_pitch_contact_stress(pair, torque)
         with capsys.disabled():
             print(
-                f"\n{pair.gear1.name}-{pair.gear2.name} pitch point (steel 210 GPa, 0.3): "
+                f"\n{pair.gear1.name}-{pair.gear2.name} pitch point (steel 206 GPa, 0.3): "
                 f"R = {c.radius:.4f} mm, w_single = {w:.1f} N/mm -> p_max = {c.p_max:.1f} MPa, "
                 f"b = {c.half_width:.4f} mm; w_mean = {w_mean:.1f} N/mm -> p_max = "
                 f"{c_mean.p_max:.1f} MPa; ISO sigma_H0 (Z_H {full['Z_H']:.4f}, Z_E "

@@ -12,7 +12,7 @@ import pytest
 from mpi4py import MPI
 
 from cases.study_case import load_study_case
-from solvers.double_pinion_branch import run_position_double
+from studies.position import solve_position
 
 T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)
 Z_SUN, Z_RING = 35, 92
@@ -21,12 +21,12 @@ FACE_PINION = 29.0  # mm, SP and RP face width
 
 @pytest.fixture(scope="module")
 def ga():
-    return run_position_double(load_study_case("2B-GA"), 0.0, MPI.COMM_WORLD, level=0)
+    return solve_position(load_study_case("2B-GA"), 0.0, MPI.COMM_WORLD, level=0)
 
 
 @pytest.fixture(scope="module")
 def gb():
-    return run_position_double(load_study_case("2B-GB"), 0.0, MPI.COMM_WORLD, level=0)
+    return solve_position(load_study_case("2B-GB"), 0.0, MPI.COMM_WORLD, level=0)
 
 
 @pytest.mark.parametrize("name", ["ga", "gb"])

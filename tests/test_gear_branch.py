@@ -1,4 +1,5 @@
-"""Contact on the real case-1 gear scene: exact contact-line grids and the one-branch model.
+"""Contact on the real case-1 gear scene: exact contact-line grids and the one-branch model
+(:func:`studies.position.solve_position`).
 
 P1 at mesh level 0 (about 122k DOFs, ~8 s per position serially on 2 cores). The solve of
 each case is done once per module (fixtures) and shared by the tests.
@@ -14,15 +15,17 @@ import pytest
 from mpi4py import MPI
 
 from cases.study_case import load_study_case
-from meshing.gear_geometry import involute_deviation
-from meshing.scenes import case1_scene
-from solvers.gear_contact import flank_grid, run_position
+from gears.profile import involute_deviation
+from meshing.scenes import branch_scene
+from postprocess.mesh_stress import iso_nominal_root_stress
+from solvers.flank_grid import flank_grid
+from studies.position import solve_position
 
 T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)
 
 
 def _grids(roll):
-    sc = case1_scene(roll)
+    sc = branch_scene(load_study_case("1-GA").gearset, roll)
     return sc, [
         (
             zn,
@@ -85,12 +88,12 @@ def test_grid_on_both_exact_flanks(roll):
 
 @pytest.fixture(scope="module")
 def ga():
-    return run_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+    return solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1)
 
 
 @pytest.fixture(scope="module")
 def gc():
-    return run_position(load_study_case("1-GC"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+    return solve_position(load_study_case("1-GC"), 0.0, MPI.COMM_SELF, level=0, degree=1)
 
 
 def test_torque_balance_and_ratio(ga):
@@ -177,7 +180,7 @@ def test_penalty_sweep_on_gear_moments(ga):
     contact limit); over the top decade they move < 1 % (issue 4, check 5)."""
     case = load_study_case("1-GA")
     runs = {
-        f: run_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1, penalty_factor=f)
+        f: solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1, penalty_factor=f)
         for f in (10.0, 1000.0)
     }
     runs[100.0] = ga
@@ -199,8 +202,8 @@ def test_branch_parallel_equals_serial():
     collectively before the ranks read it alone.
     """
     case = load_study_case("1-GA")
-    par = run_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)
-    ser = run_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
+    par = solve_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)
+    ser = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
     for k in KEYS:
         # scale: ZS, ZR are compared against the face width, moments against My
         scale = 29.0 if k in ("ZS", "ZR") else abs(ser["My_pin"])
@@ -224,8 +227,6 @@ def test_root_stress_at_loaded_fillets(ga):
     lines clipped by the face width). Measured at roll 0: FE / ISO = 0.76 (sun), 0.73
     (pinion, sun side), 0.70 (pinion, ring side); ring 335 MPa (no ISO value: internal).
     """
-    from postprocess.case_study import iso_nominal_root_stress
-
     bs = ga["bending_stress"]
     for key in ("sun", "pinion_sun_side", "pinion_ring_side", "ring"):
         assert bs[key] > 0, key
@@ -234,6 +235,6 @@ def test_root_stress_at_loaded_fillets(ga):
         loc = bs["locations"][key]
         assert loc["side"] == side, key
         assert loc["tooth"] in loc["teeth"] and abs(loc["z_mm"]) <= 14.5 + 1e-9
-    iso = iso_nominal_root_stress(load_study_case("1-GA"))
+    iso = iso_nominal_root_stress(load_study_case("1-GA").gearset)
     for key in ("sun", "pinion_sun_side", "pinion_ring_side"):
         assert 0.5 < bs[key] / iso[key] < 2.0, (key, bs[key], iso[key])

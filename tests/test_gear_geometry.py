@@ -9,19 +9,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from meshing.gear_geometry import (
-    GearPair,
-    GearSpec,
-    GeometryError,
-    assign_chain_shifts,
-    fillet_deviation,
-    gear_outline,
-    inverse_involute,
-    involute,
-    involute_deviation,
-    tooth_profile,
-    with_required_shift,
-)
+from gears.involute import inverse_involute, involute
+from gears.pair import GearPair, assign_chain_shifts, with_required_shift
+from gears.profile import fillet_deviation, gear_outline, involute_deviation, tooth_profile
+from gears.spec import GearSpec, GeometryError
 
 COMMON = dict(normal_module=1.59, normal_pressure_angle=20.0, helix_angle=21.0)
 SPUR = dict(normal_module=1.0, normal_pressure_angle=20.0, helix_angle=0.0, face_width=10.0)

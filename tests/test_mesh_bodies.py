@@ -12,11 +12,14 @@ import math
 import numpy as np
 import pytest
 
-from meshing import gear_body as gbm
+from cases.gearset import load_gearset
+from gears.profile import fillet_deviation, gear_outline, involute_deviation, tooth_profile
+from meshing import body_geometry as gbm
 from meshing import gmsh_util, sizing
 from meshing import tags as T
-from meshing.gear_body import GearBody, body_mesh_file
-from meshing.gear_geometry import fillet_deviation, gear_outline, involute_deviation, tooth_profile
+from meshing.body_cache import body_mesh_file
+from meshing.carrier import carrier_mesh_file, carrier_spec
+from meshing.gear_body import GearBody
 from meshing.sizing import MeshingError
 
 # Stated bounds.
@@ -270,9 +273,8 @@ def test_tag_names():
 
 @pytest.fixture(scope="module")
 def carrier():
-    from meshing.carrier import carrier_mesh_file, default_carrier
 
-    spec = default_carrier("case1")
+    spec = carrier_spec(load_gearset("case1"))
     path, meta = carrier_mesh_file(spec, 0)
     return spec, path, meta, gmsh_util.group_nodes(path)
 
@@ -311,10 +313,8 @@ def test_carrier_pin_surface_is_the_pin(carrier):
 def test_carrier_bad_input(no_gmsh, field, value, match):
     from dataclasses import replace
 
-    from meshing.carrier import carrier_mesh_file, default_carrier
-
     with pytest.raises(MeshingError, match=match):
-        carrier_mesh_file(replace(default_carrier("case1"), **{field: value}), 0)
+        carrier_mesh_file(replace(carrier_spec(load_gearset("case1")), **{field: value}), 0)
 
 
 def test_carrier_clears_the_gears(carrier):

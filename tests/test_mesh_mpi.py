@@ -10,6 +10,7 @@ import math
 
 import pytest
 
+from cases.gearset import load_gearset
 from meshing import scenes
 from meshing.build import load_scene
 
@@ -21,7 +22,7 @@ def test_scene_loads_identically_in_parallel():
     from meshing.to_dolfinx import global_facet_counts, global_volume
 
     comm = MPI.COMM_WORLD
-    scene = scenes.case1_scene(roll=0.0)
+    scene = scenes.branch_scene(load_gearset("case1"), 0.0)
     bundle = load_scene(scene, 0, comm)
     meta = bundle.meta
 

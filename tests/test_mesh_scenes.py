@@ -12,20 +12,22 @@ import math
 import numpy as np
 import pytest
 
-from meshing import gmsh_util, scenes
+from cases.gearset import load_gearset
+from gears.profile import involute_deviation
+from meshing import gmsh_util, mesh_zones, scenes
 from meshing import tags as T
 from meshing.build import scene_mesh_file
-from meshing.gear_geometry import involute_deviation
 from meshing.sizing import MeshingError
 
 CONTACT_TOL = 1e-4  # mm = 0.1 um (issue); measured ~1e-13 mm (closed-form phase)
 NODE_TOL = 0.5e-3  # mm: mesh nodes on the exact helicoid (same bound as the body tests)
 
+CASE1, CASE2 = load_gearset("case1"), load_gearset("case2")
 SCENE_MAKERS = {
-    "case1-branch": lambda: scenes.case1_scene(roll=0.0),
-    "case1-branch-roll": lambda: scenes.case1_scene(roll=0.05),
-    "case1-all": lambda: scenes.case1_scene(roll=0.0, branches=3),
-    "case2-branch": lambda: scenes.case2_scene(roll=0.0),
+    "case1-branch": lambda: scenes.build_scene("one_branch", CASE1, 0.0),
+    "case1-branch-roll": lambda: scenes.build_scene("one_branch", CASE1, 0.05),
+    "case1-all": lambda: scenes.build_scene("all_planets", CASE1, 0.0),
+    "case2-branch": lambda: scenes.build_scene("one_branch", CASE2, 0.0),
 }
 
 
@@ -46,10 +48,10 @@ def test_flanks_touch_on_contact_lines(all_scenes, coast):
     for key, sc, zn in _zones(all_scenes):
         drv, dvn = sc.gear(zn.driver), sc.gear(zn.driven)
         side_a, side_b = zn.coast_sides if coast else (zn.driver_side, zn.driven_side)
-        lines = scenes.contact_lines(zn, drv, dvn, coast=coast)
+        lines = mesh_zones.contact_lines(zn, drv, dvn, coast=coast)
         # transverse contact ratio ~1.5-1.9 plus overlap ratio ~1.1: 3-4 teeth in contact
         assert 2 <= len(lines) <= 5, f"{key} {zn.driver}/{zn.driven}: {len(lines)} lines"
-        gap = scenes.normal_backlash(zn, drv) if coast else 0.0
+        gap = mesh_zones.normal_backlash(zn, drv) if coast else 0.0
         for _, _, pts in lines:
             on_a = involute_deviation(drv.gear, drv.placement.inverse(pts), side_a)
             on_b = involute_deviation(dvn.gear, dvn.placement.inverse(pts), side_b)
@@ -136,7 +138,6 @@ def test_teeth_in_mesh_are_refined(all_scenes):
         ({"phase_offsets": {"pinion": -2e-4}}, "interpenetrate"),
         ({"phase_offsets": {"planet": 0.1}}, "unknown bodies"),
         ({"roll": float("nan")}, "roll"),
-        ({"branches": 2}, "branches"),
     ],
 )
 def test_bad_scene_fails_before_gmsh(monkeypatch, kwargs, match):
@@ -144,8 +145,13 @@ def test_bad_scene_fails_before_gmsh(monkeypatch, kwargs, match):
 
     monkeypatch.setattr(gmsh, "initialize", lambda *a, **k: pytest.fail("gmsh was called"))
     with pytest.raises(MeshingError, match=match):
-        sc = scenes.case1_scene(**kwargs)
+        sc = scenes.branch_scene(CASE1, **kwargs)
         scene_mesh_file(sc, 0)
+
+
+def test_unknown_scene_is_refused():
+    with pytest.raises(MeshingError, match="must be one of one_branch, all_planets"):
+        scenes.build_scene("three_branches", CASE1, 0.0)
 
 
 @pytest.fixture(scope="module")

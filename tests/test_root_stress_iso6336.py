@@ -1,4 +1,4 @@
-"""ISO 6336-3 method B nominal tooth root stress (postprocess.root_stress_iso6336)."""
+"""ISO 6336-3 method B nominal tooth root stress (gears.iso6336_root)."""
 
 import math
 from dataclasses import replace
@@ -7,14 +7,15 @@ import numpy as np
 import pytest
 
 from cases.gearset import load_gearset
-from meshing.gear_geometry import GearPair, GearSpec
-from postprocess.contact_stress import path_of_contact, pitch_roll
-from postprocess.root_stress_iso6336 import (
+from gears.contact_stress import path_of_contact, pitch_roll
+from gears.iso6336_root import (
     fillet_tangent_point,
     form_factors,
     helix_factor,
     nominal_root_stress,
 )
+from gears.pair import GearPair
+from gears.spec import GearSpec
 
 COMMON = dict(normal_module=1.59, normal_pressure_angle=20.0, helix_angle=21.0)
 TORQUE = 459.57e3  # N mm on the sun per mesh (singh2007.md section 1)
@@ -91,7 +92,7 @@ def test_hpstc_diameter_matches_pair_geometry():
     roll1 = pitch_roll(pair, 1) + s0 + p_b  # gear1 tip end is s1, its HPSTC at s0 + p_b
     roll2 = pitch_roll(pair, 2) - (s1 - p_b)
     for i, roll in ((1, roll1), (2, roll2)):
-        g = pair._gear(i)
+        g = pair.gear(i)
         f = form_factors(g, pair.transverse_contact_ratio)
         assert f["d_en"] / 2.0 == pytest.approx(math.hypot(g.base_radius, roll), rel=1e-12)
     # eps_alpha = 1 puts the HPSTC at the tip

@@ -19,8 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from postprocess.analytic import parametric, printed
-from postprocess.analytic import radial_stiffness as rs
+from gears.analytic import parametric, printed
+from gears.analytic import radial_stiffness as rs
 
 
 def fig6_misalignment(tables: dict, path: Path) -> Path:

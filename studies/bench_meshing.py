@@ -1,12 +1,14 @@
 """Meshing benchmark: per body and level, elements, nodes, wall time, peak memory, quality.
 
-    python -m postprocess.bench_meshing --out results/bench/meshing.json [--levels 0 1 2]
+    python -m studies.bench_meshing --gearsets case1 case2 --out results/bench/meshing.json
+        [--levels 0 1 2]
 
 Every measurement runs in a fresh subprocess with an empty temporary cache (a cold build:
 geometry + meshing + writing the .msh), so the peak resident memory is that of one build.
-The bodies are those of the case 1 one-branch scene (sun and ring sectors, full pinion with
-its teeth in mesh refined) plus the carrier; the scene itself is timed cold at every
-level, against the issue's target (case 1 one branch at the default level in < 60 s).
+The bodies are those of the first gear set's one-branch scene (sun and ring sectors, full
+pinion with its teeth in mesh refined) plus its carrier; the one-branch scene of every gear
+set is timed cold at every level, the first against the target (one branch at the default
+level in < 60 s).
 A benchmark measures; it asserts nothing.
 """
 
@@ -23,30 +25,33 @@ import tempfile
 import time
 from pathlib import Path
 
+from cases.gearset import load_gearset
+from meshing import sizing
+from meshing.body_cache import body_mesh_file
+from meshing.build import scene_mesh_file
+from meshing.carrier import carrier_mesh_file, carrier_spec
+from meshing.scenes import build_scene
+
 TARGET_SECONDS = 60.0  # issue: case 1 one-branch scene at the default level
 
 
-def _one(kind: str, level: int) -> dict:
-    """Build one item cold in this process; return its statistics."""
-    from meshing import scenes
-    from meshing.build import scene_mesh_file
-    from meshing.carrier import carrier_mesh_file, default_carrier
-    from meshing.gear_body import body_mesh_file
-
+def _one(item: str, level: int) -> dict:
+    """Build one item (``scene:<gearset>``, ``carrier:<gearset>`` or ``<gearset>:<body>``)
+    cold in this process; return its statistics."""
+    what, gs_name = item.split(":", 1)
     t0 = time.perf_counter()
-    if kind == "scene:case1-branch":
-        _, meta = scene_mesh_file(scenes.case1_scene(0.0), level)
-    elif kind == "scene:case2-branch":
-        _, meta = scene_mesh_file(scenes.case2_scene(0.0), level)
-    elif kind == "carrier":
-        _, meta = carrier_mesh_file(default_carrier("case1"), level)
+    if what == "scene":
+        _, meta = scene_mesh_file(build_scene("one_branch", load_gearset(gs_name)), level)
+    elif what == "carrier":
+        _, meta = carrier_mesh_file(carrier_spec(load_gearset(gs_name)), level)
     else:
-        g = scenes.case1_scene(0.0).gear(kind)
+        gs_name, body = what, gs_name
+        g = build_scene("one_branch", load_gearset(gs_name)).gear(body)
         _, meta = body_mesh_file(g.body, level, g.active_teeth)
     wall = time.perf_counter() - t0
     peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return {
-        "item": kind,
+        "item": item,
         "level": level,
         "elements": meta["elements"],
         "nodes": meta["nodes"],
@@ -60,18 +65,21 @@ def _one(kind: str, level: int) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m postprocess.bench_meshing")
+    ap = argparse.ArgumentParser(prog="python -m studies.bench_meshing")
     ap.add_argument("--out", type=Path, default=Path("results/bench/meshing.json"))
     ap.add_argument("--levels", type=int, nargs="+", default=[0, 1, 2])
+    ap.add_argument("--gearsets", nargs="+", required=True, help="gear-set names or paths")
     ap.add_argument("--one", nargs=2, metavar=("ITEM", "LEVEL"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one:
         print(json.dumps(_one(args.one[0], int(args.one[1]))))
         return 0
 
-    from meshing import sizing
-
-    items = ["sun", "pinion", "ring", "carrier", "scene:case1-branch", "scene:case2-branch"]
+    first = load_gearset(args.gearsets[0])
+    items = [f"{first.name}:{g}" for g in first.power_path]
+    if first.kind == "single_pinion":
+        items.append(f"carrier:{first.name}")
+    items += [f"scene:{g}" for g in args.gearsets]
     rows = []
     for level in args.levels:
         sizing.check_level(level)
@@ -79,7 +87,7 @@ def main(argv=None) -> int:
             with tempfile.TemporaryDirectory() as tmp:
                 env = {**os.environ, "PLANETARY_CACHE": tmp}
                 res = subprocess.run(
-                    [sys.executable, "-m", "postprocess.bench_meshing", "--one", item, str(level)],
+                    [sys.executable, "-m", "studies.bench_meshing", "--one", item, str(level)],
                     env=env,
                     capture_output=True,
                     text=True,
@@ -93,9 +101,8 @@ def main(argv=None) -> int:
                 f"min SICN {row['min_sicn']:.3f}",
                 flush=True,
             )
-    default = [
-        r for r in rows if r["item"] == "scene:case1-branch" and r["level"] == sizing.DEFAULT_LEVEL
-    ]
+    target = items[-len(args.gearsets)]  # the first gear set's one-branch scene
+    default = [r for r in rows if r["item"] == target and r["level"] == sizing.DEFAULT_LEVEL]
     out = {
         "machine": {
             "cpus": os.cpu_count(),
@@ -104,7 +111,7 @@ def main(argv=None) -> int:
         },
         "default_level": sizing.DEFAULT_LEVEL,
         "target": {
-            "what": "case 1 one-branch scene at the default level, cold build",
+            "what": f"{target} (one-branch scene) at the default level, cold build",
             "seconds": TARGET_SECONDS,
             "measured_seconds": default[0]["wall_seconds"] if default else None,
             "met": (default[0]["wall_seconds"] < TARGET_SECONDS) if default else None,

@@ -2,7 +2,7 @@
 
 Inputs are the gear data of singh2007 section 1 (teeth, module, angles, face widths, centre
 distances, torque) and the stated parameters of pust2016 and parker2000. The operating
-geometry (pitch radii, pressure and helix angles) comes from :mod:`meshing.gear_geometry`;
+geometry (pitch radii, pressure and helix angles) comes from the :mod:`gears` package;
 nothing derived is typed in. :func:`build_tables` returns one JSON-ready dict (moments N m,
 forces N, lengths mm, angles deg unless a key says otherwise); ``report.py`` and
 ``figures.py`` turn it into ``report.md`` and the figures.
@@ -11,125 +11,25 @@ forces N, lengths mm, angles deg unless a key says otherwise); ``report.py`` and
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 
 import numpy as np
 
-from cases.gearset import load_gearset
-from cases.study_case import load_study_case
-from meshing.gear_geometry import GearPair, GearSpec, assign_chain_shifts
-from postprocess.analytic import double_pinion as dp
-from postprocess.analytic import parametric, phasing, printed
-from postprocess.analytic import radial_stiffness as rs
-from postprocess.analytic import single_pinion as sp
+from gears.analytic import double_pinion as dp
+from gears.analytic import parametric, phasing, printed
+from gears.analytic import radial_stiffness as rs
+from gears.analytic import single_pinion as sp
+from gears.analytic.planetary import (
+    PlanetaryInput,
+    double_pinion_axial_forces,
+    double_pinion_geometry,
+    double_pinion_triangle,
+    single_pinion_geometry,
+)
 
 # parker2000 example system (US Army OH-58): teeth and the four-planet angles (deg).
 OH58 = {"Zs": 27, "Zp": 35, "Zr": 99, "four_planet_angles_deg": (0.0, 91.4, 180.0, 271.4)}
 PHASING_HARMONICS = 8  # l = 1..8 in the tables
-
-
-@dataclass(frozen=True)
-class PlanetaryInput:
-    """One planetary set: gears along the power path (sun, pinion(s), ring), one centre
-    distance per mesh along that path (mm), input torque on the sun (N m), planets (or
-    pinion pairs) sharing it."""
-
-    name: str
-    gears: tuple[GearSpec, ...]
-    centre_distances: tuple[float, ...]
-    input_torque: float
-    planets: int
-
-    @property
-    def torque_per_branch(self) -> float:
-        """Sun torque of one branch, N m (equal load sharing)."""
-        return self.input_torque / self.planets
-
-    def pairs(self) -> list[GearPair]:
-        """The meshes along the power path, profile shifts resolved from the centre distances."""
-        gears = assign_chain_shifts(list(self.gears), list(self.centre_distances))
-        return [
-            GearPair(g1, g2, a)
-            for g1, g2, a in zip(gears[:-1], gears[1:], self.centre_distances, strict=True)
-        ]
-
-
-def from_gearset(gs) -> PlanetaryInput:
-    """A :class:`PlanetaryInput` from a ``cases.gearset.GearSet`` (loaded case file)."""
-    return PlanetaryInput(
-        name=gs.name,
-        gears=tuple(gs.gears[p] for p in gs.power_path),
-        centre_distances=tuple(m.centre_distance for m in gs.meshes),
-        input_torque=gs.input_torque,
-        planets=gs.planets,
-    )
-
-
-def default_inputs() -> tuple[PlanetaryInput, PlanetaryInput]:
-    """Case 1 and case 2 of singh2007 (section 1 gear data, ``cases/gearsets/*.toml``)."""
-    return from_gearset(load_gearset("case1")), from_gearset(load_gearset("case2"))
-
-
-def bearing_radial_stiffness() -> dict[str, float]:
-    """Radial pin-bearing stiffness (N/mm) of the steel case-1 study cases (section 7)."""
-    cases = (load_study_case(n) for n in ("1-GA", "1-GB", "1-GC"))
-    return {c.name: c.bearing.radial_stiffness for c in cases}
-
-
-# --------------------------------------------------------------------------- geometry
-
-
-def single_pinion_geometry(case1: PlanetaryInput) -> sp.SinglePinionGeometry:
-    """Operating geometry of the sun-pinion-ring branch (singh2007 section 2)."""
-    sun_pin, pin_ring = case1.pairs()
-    return sp.SinglePinionGeometry(
-        r_sun=sun_pin.operating_pitch_radius(1),
-        r_pin_sun=sun_pin.operating_pitch_radius(2),
-        r_pin_ring=pin_ring.operating_pitch_radius(1),
-        alpha1=sun_pin.operating_pressure_angle,
-        alpha2=pin_ring.operating_pressure_angle,
-        beta1=sun_pin.operating_helix_angle(2),
-        beta2=pin_ring.operating_helix_angle(1),
-    )
-
-
-def case2_triangle(case2: PlanetaryInput) -> dp.TriangleAngles:
-    """psi, theta, phi of case 2-B: the sun-RP distance is the RP-ring centre distance."""
-    d_sun_sp, d_sp_rp, d_rp_ring = case2.centre_distances
-    return dp.triangle_angles(d_sun_sp, d_sp_rp, d_rp_ring)
-
-
-def double_pinion_geometry(
-    case2: PlanetaryInput, theta: float | None = None, phi: float | None = None
-) -> dp.DoublePinionGeometry:
-    """Operating geometry of the sun-SP-RP-ring branch; theta, phi (rad) default to the
-    real triangle (case 2-B); theta = pi, phi = 0 gives case 2-A."""
-    sun_sp, sp_rp, rp_ring = case2.pairs()
-    tri = case2_triangle(case2)
-    return dp.DoublePinionGeometry(
-        r_sp_sun=sun_sp.operating_pitch_radius(2),
-        r_sp_rp=sp_rp.operating_pitch_radius(1),
-        r_rp_sp=sp_rp.operating_pitch_radius(2),
-        r_rp_ring=rp_ring.operating_pitch_radius(1),
-        a1=sun_sp.operating_pressure_angle,
-        a2=sp_rp.operating_pressure_angle,
-        a3=rp_ring.operating_pressure_angle,
-        theta=tri.theta if theta is None else theta,
-        phi=tri.phi if phi is None else phi,
-    )
-
-
-def case2_axial_forces(case2: PlanetaryInput) -> dp.AxialForces:
-    """Axial mesh forces of one case-2 branch from the sun torque (N)."""
-    sun_sp, sp_rp, rp_ring = case2.pairs()
-    return dp.axial_forces(
-        case2.torque_per_branch,
-        sun_sp.operating_pitch_radius(1),
-        double_pinion_geometry(case2),
-        beta_sp_sun=sun_sp.operating_helix_angle(2),
-        beta_sp_rp=sp_rp.operating_helix_angle(1),
-        beta_rp_ring=rp_ring.operating_helix_angle(1),
-    )
 
 
 # --------------------------------------------------------------------------- sections
@@ -184,10 +84,10 @@ def _double_entry(fz: dp.AxialForces, g: dp.DoublePinionGeometry) -> dict:
 
 def double_section(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
     """singh2007 Tables 4-5 (cases 2-A and 2-B) and the case-2 geometry."""
-    tri = case2_triangle(case2)
+    tri = double_pinion_triangle(case2)
     g_b = double_pinion_geometry(case2)
     g_a = double_pinion_geometry(case2, theta=math.pi, phi=0.0)
-    fz = case2_axial_forces(case2)
+    fz = double_pinion_axial_forces(case2)
     entry_a, entry_b = _double_entry(fz, g_a), _double_entry(fz, g_b)
     single = sp.concentrated_load(case1.torque_per_branch, single_pinion_geometry(case1))
     geometry = {
@@ -231,7 +131,7 @@ def double_section(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
 def parametric_section(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
     """singh2007 Table 6 (paper's FA R), FA R from the case-2 geometry, Fig. 6 curves."""
     g = double_pinion_geometry(case2)
-    fa = case2_axial_forces(case2).FzSUN
+    fa = double_pinion_axial_forces(case2).FzSUN
     my_case1 = sp.concentrated_load(case1.torque_per_branch, single_pinion_geometry(case1))[
         "My_pin"
     ]
@@ -272,8 +172,9 @@ def parametric_section(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
     }
 
 
-def pust_section(case1: PlanetaryInput) -> dict:
-    """pust2016 example, Table 1 as stated and as printed, case-1 mesh radial stiffness."""
+def pust_section(case1: PlanetaryInput, bearing_radial: dict[str, float]) -> dict:
+    """pust2016 example, Table 1 as stated and as printed, case-1 mesh radial stiffness
+    against the radial pin-bearing stiffness of each named study case (N/mm)."""
     ex = rs.PUST_EXAMPLE
     alpha = math.radians(ex["alpha_deg"])
     k_ex = rs.k_r_external(ex["force"], alpha, ex["r_sun"], ex["r_planet"])
@@ -314,9 +215,7 @@ def pust_section(case1: PlanetaryInput) -> dict:
             "k_r_ring_mesh_N_per_mm": k_ring,
             "k_r_pinion_net_N_per_mm": k_sun + k_ring,
             "k_r_sun_three_planets_N_per_mm": 1.5 * k_sun,
-            "ratio_to_bearing_radial": {
-                name: abs(k_sun) / k for name, k in bearing_radial_stiffness().items()
-            },
+            "ratio_to_bearing_radial": {name: abs(k_sun) / k for name, k in bearing_radial.items()},
         },
     }
 
@@ -350,8 +249,12 @@ def phasing_section(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
     }  # fmt: skip
 
 
-def build_tables(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
-    """Every analytical table, JSON-ready (see the module docstring for units)."""
+def build_tables(
+    case1: PlanetaryInput, case2: PlanetaryInput, bearing_radial: dict[str, float]
+) -> dict:
+    """Every analytical table, JSON-ready (see the module docstring for units), from the
+    single and double pinion sets and the radial pin-bearing stiffness (N/mm) of the study
+    cases the pust2016 comparison names."""
     s = single_section(case1)
     d = double_section(case1, case2)
     p = parametric_section(case1, case2)
@@ -363,6 +266,6 @@ def build_tables(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
         "double": d["double"],
         "table6": p["table6"],
         "parametric": p["parametric"],
-        "pust": pust_section(case1),
+        "pust": pust_section(case1, bearing_radial),
         "phasing": phasing_section(case1, case2),
     }

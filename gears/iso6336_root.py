@@ -52,7 +52,10 @@ import math
 
 import numpy as np
 
-from meshing.gear_geometry import GearPair, GearSpec, involute, tooth_profile
+from gears.involute import involute
+from gears.pair import GearPair
+from gears.profile import tooth_profile
+from gears.spec import GearSpec
 
 
 def _check_external(gear: GearSpec):
@@ -157,7 +160,7 @@ def nominal_root_stress(pair: GearPair, i: int, torque1: float, load_at: str = "
     eps_alpha and eps_beta are the pair's (``transverse_contact_ratio``, ``overlap_ratio``).
     Returns the ``form_factors`` dict plus F_t, b, Y_beta, Y_B, Y_DT, sigma_F0.
     """
-    gear, mate = pair._gear(i), pair._gear(3 - i)
+    gear, mate = pair.gear(i), pair.gear(3 - i)
     _check_external(gear)
     f = form_factors(gear, pair.transverse_contact_ratio, load_at=load_at)
     m = gear.normal_module
@@ -170,7 +173,7 @@ def nominal_root_stress(pair: GearPair, i: int, torque1: float, load_at: str = "
 
 def fillet_tangent_point(gear: GearSpec, angle_deg: float = 30.0, n_fillet: int = 4001) -> dict:
     """Exact counterpart of ISO's s_Fn and rho_F on the generated transverse fillet of
-    ``meshing.gear_geometry.tooth_profile`` (for a spur gear the virtual gear is the gear).
+    ``gears.profile.tooth_profile`` (for a spur gear the virtual gear is the gear).
 
     Finds the point of the +theta fillet of tooth 0 (symmetric about +x) whose tangent makes
     ``angle_deg`` with the tooth centre line, and the fillet's radius of curvature there. The

@@ -1,7 +1,7 @@
 """Benchmark of the contact solver: time against error, and the cost of contact over one solve.
 
-    .venv/bin/python -m postprocess.bench_solver [--out results/bench] [--levels ...]
-    .venv/bin/mpiexec -n 2 .venv/bin/python -m postprocess.bench_solver
+    .venv/bin/python -m studies.bench_solver [--out results/bench] [--levels ...]
+    .venv/bin/mpiexec -n 2 .venv/bin/python -m studies.bench_solver
 
 For each mesh level of the 2D Hertz scene and the 3D roller scene (solvers.verification):
 DOFs, grid points, compliance columns formed, and the times of the factorization, one
@@ -29,7 +29,7 @@ import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
 import numpy as np
 from mpi4py import MPI
 
-from solvers.contact import hertz_line
+from gears.contact_stress import hertz_line_contact
 from solvers.verification import hertz_measures, hertz_reference, hertz_scene, roller_scene
 
 
@@ -101,7 +101,8 @@ def bench_roller(comm, levels, degree=2, spacing_ratio=1.0) -> list[dict]:
         s, x, z = info["spacing"], info["x"], info["z"]
         mid = np.abs(z - z[np.argmin(np.abs(z))]) < 1e-9  # the station nearest mid-length
         F = res.forces[mid]
-        ref = hertz_line(info["q"], info["R"], info["e_star"])
+        a, p0 = hertz_line_contact(info["q"], info["R"], info["e_star"])
+        ref = {"a": float(a), "p0": float(p0)}
         extra = {
             "case": f"roller3d_P{degree}" + ("" if spacing_ratio == 1.0 else "_fine_grid"),
             "h": h,

@@ -1,10 +1,14 @@
-"""Build the case scenes and write a picture and a report of each.
+"""Build the scenes of gear sets and write a picture and a report of each.
 
-    python -m meshing --out results/meshes --level 1 [--scenes case1-branch case2-branch]
+    python -m studies.meshes --gearsets case1 case2 [--scenes one_branch] [--carrier]
+        [--out results/meshes] [--level 1]
 
-For every scene: the mesh (cached in .cache/meshes or $PLANETARY_CACHE), a picture
-``<out>/<scene>-L<level>.png`` and ``<out>/<scene>-L<level>.json`` (scene report: bodies,
-placements, teeth in mesh, drive/coast flanks, what was left out; mesh statistics).
+For every gear set (``cases/gearsets/<name>.toml`` or a path) and scene of the registry
+(:data:`meshing.scenes.SCENES`; ``--carrier`` adds the carrier body to single-pinion scenes as
+an extra variant), named ``<gearset>-<scene>[-carrier]``: the mesh (cached in .cache/meshes
+or $PLANETARY_CACHE), a picture ``<out>/<scene>-L<level>.png`` and
+``<out>/<scene>-L<level>.json`` (scene report: bodies, placements, teeth in mesh, drive
+and coast flanks, what was left out; mesh statistics).
 Runs under MPI too (the mesh is built on rank 0; files are written on rank 0 only).
 """
 
@@ -16,16 +20,13 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from mpi4py import MPI
 
-from meshing import scenes, sizing
-
-DEFAULT_SCENES = ("case1-branch", "case1-branch-carrier", "case2-branch")
-ALL_SCENES = {
-    "case1-branch": lambda roll: scenes.case1_scene(roll, branches=1),
-    "case1-branch-carrier": lambda roll: scenes.case1_scene(roll, branches=1, carrier=True),
-    "case1-all": lambda roll: scenes.case1_scene(roll, branches=3),
-    "case2-branch": lambda roll: scenes.case2_scene(roll),
-}
+from cases.gearset import load_gearset
+from meshing import sizing
+from meshing.build import scene_mesh_file
+from meshing.pictures import scene_picture
+from meshing.scenes import SCENES, build_scene
 
 
 def zone_focus(scene) -> tuple[tuple[float, float, float], float]:
@@ -37,23 +38,29 @@ def zone_focus(scene) -> tuple[tuple[float, float, float], float]:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m meshing", description=__doc__.splitlines()[0])
+    doc = __doc__.splitlines()[0]
+    ap = argparse.ArgumentParser(prog="python -m studies.meshes", description=doc)
     ap.add_argument("--out", type=Path, default=Path("results/meshes"))
     ap.add_argument("--level", type=int, default=sizing.DEFAULT_LEVEL)
     ap.add_argument("--roll", type=float, default=0.0, help="sun angle (rad), mesh position")
-    ap.add_argument("--scenes", nargs="+", default=list(DEFAULT_SCENES), choices=ALL_SCENES)
+    ap.add_argument("--gearsets", nargs="+", required=True, help="gear-set names or paths")
+    ap.add_argument("--scenes", nargs="+", default=["one_branch"], choices=list(SCENES))
+    ap.add_argument("--carrier", action="store_true", help="also the scenes with the carrier")
     ap.add_argument("--rebuild", action="store_true", help="ignore the cache")
     ap.add_argument("--no-pictures", action="store_true")
     args = ap.parse_args(argv)
 
-    from mpi4py import MPI
-
-    from meshing.build import scene_mesh_file
-
     comm = MPI.COMM_WORLD
     sizing.check_level(args.level)
-    for name in args.scenes:
-        scene = ALL_SCENES[name](args.roll)
+    jobs = []
+    for gs_name in args.gearsets:
+        gs = load_gearset(gs_name)
+        for kind in args.scenes:
+            jobs.append((f"{gs.name}-{kind}", gs, kind, {}))
+            if args.carrier and gs.kind == "single_pinion":
+                jobs.append((f"{gs.name}-{kind}-carrier", gs, kind, {"carrier": True}))
+    for name, gs, kind, options in jobs:
+        scene = build_scene(kind, gs, args.roll, **options)
         path, meta = scene_mesh_file(scene, args.level, comm=comm, rebuild=args.rebuild)
         if comm.rank != 0:
             continue
@@ -74,8 +81,6 @@ def main(argv=None) -> int:
         }
         stem.with_suffix(".json").write_text(json.dumps(report, indent=1))
         if not args.no_pictures:
-            from meshing.pictures import scene_picture
-
             scene_picture(
                 path,
                 stem.with_suffix(".png"),

@@ -1,14 +1,15 @@
-"""The case driver: positions over one base pitch, summary contract, pictures, restart and
-partial failure (a study that fails part way keeps what it finished)."""
+"""The study driver: positions over one base pitch, summary contract, pictures, restart keyed
+by the inputs, partial failure (a study that fails part way keeps what it finished)."""
 
 import json
 import math
+import shutil
+from pathlib import Path
 
 import pytest
 
-import solvers.gear_contact
 from cases.study_case import load_study_case
-from postprocess import case_study
+from studies import run as study_run
 
 N_POS = 2
 
@@ -16,13 +17,13 @@ N_POS = 2
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     out = tmp_path_factory.mktemp("results")
-    summary = case_study.run_case("1-GA", out, level=0, positions=N_POS)
+    summary = study_run.run_study("1-GA", out, level=0, positions=N_POS)
     return out, summary
 
 
 def test_roll_angles_span_one_base_pitch():
     case = load_study_case("1-GA")
-    rolls = case_study.roll_angles(case, 5)
+    rolls = study_run.roll_angles(case, 5)
     # equally spaced, the last one a fifth of a sun tooth pitch short of a full pitch
     assert rolls[0] == 0.0
     assert rolls[-1] + rolls[1] == pytest.approx(2 * math.pi / 35, rel=1e-12)
@@ -71,9 +72,35 @@ def test_restart_reuses_finished_positions(study, monkeypatch):
     def must_not_run(*args, **kwargs):
         raise AssertionError("a finished position was solved again")
 
-    monkeypatch.setattr(solvers.gear_contact, "run_position", must_not_run)
-    again = case_study.run_case("1-GA", out, level=0, positions=N_POS)
+    monkeypatch.setattr(study_run, "solve_position", must_not_run)
+    again = study_run.run_study("1-GA", out, level=0, positions=N_POS)
     assert again["My_pin"] == summary["My_pin"]
+    assert again["positions_reused"] == list(range(N_POS))
+
+
+def test_changed_inputs_are_solved_again(study, monkeypatch, tmp_path):
+    """A finished position is reused only for the inputs that produced it: the same case
+    file with another tilting stiffness (a user's edit) is solved again, not read back."""
+    out, _ = study
+    results = tmp_path / "results"
+    shutil.copytree(out / "1-GA", results / "1-GA")
+    case = load_study_case("1-GA")
+    text = Path(case.path).read_text()
+    assert "tilting_stiffness = 8.80e9" in text
+    edited = tmp_path / "1-GA.toml"
+    edited.write_text(text.replace("tilting_stiffness = 8.80e9", "tilting_stiffness = 8.80e7"))
+    calls = []
+
+    def stub(study, roll, *args, **kwargs):
+        calls.append((study.bearing.tilting_stiffness, roll))
+        raise RuntimeError("solver stubbed (test)")
+
+    monkeypatch.setattr(study_run, "solve_position", stub)
+    again = study_run.run_study(case.path, results, level=0, positions=N_POS)  # unchanged
+    assert calls == [] and again["positions_reused"] == list(range(N_POS))
+    with pytest.raises(RuntimeError, match="2 of 2 positions failed"):
+        study_run.run_study(edited, results, level=0, positions=N_POS)
+    assert [c[0] for c in calls] == [8.80e7, 8.80e7]
 
 
 def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
@@ -86,9 +113,9 @@ def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     def fail(*args, **kwargs):
         raise RuntimeError("active set did not converge (test)")
 
-    monkeypatch.setattr(solvers.gear_contact, "run_position", fail)
+    monkeypatch.setattr(study_run, "solve_position", fail)
     with pytest.raises(RuntimeError, match="1 of 2 positions failed"):
-        case_study.run_case("1-GA", tmp_path, level=0, positions=N_POS)
+        study_run.run_study("1-GA", tmp_path, level=0, positions=N_POS)
     kept = json.loads((tmp_path / "1-GA" / "summary.json").read_text())
     assert [p["roll"] for p in kept["positions"]] == [0.0]
     assert kept["failed_positions"][0]["position"] == 1

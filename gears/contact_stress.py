@@ -39,9 +39,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from meshing.gear_geometry import GearPair
+from gears import material
+from gears.pair import GearPair
 
-STEEL = (210e3, 0.3)  # E (MPa), nu: the pipeline's default steel (singh2007.md: 206-210 GPa)
+STEEL = (material.STEEL.youngs_modulus, material.STEEL.poisson_ratio)  # (E MPa, nu)
 
 
 def contact_modulus(e1: float, nu1: float, e2: float, nu2: float) -> float:
@@ -68,7 +69,7 @@ def hertz_line_contact(w, radius, e_star):
 
 def pitch_roll(pair: GearPair, i: int) -> float:
     """Transverse roll length of gear i at the operating pitch point, r_bi tan(alpha_wt) (mm)."""
-    return pair._gear(i).base_radius * math.tan(pair.operating_pressure_angle)
+    return pair.gear(i).base_radius * math.tan(pair.operating_pressure_angle)
 
 
 def position_from_radius(pair: GearPair, r1):

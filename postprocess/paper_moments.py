@@ -1,0 +1,223 @@
+"""The paper's quantities of each branch of a solved gear train, and the closed form beside them.
+
+A branch is one pinion (single-pinion set, singh2007 sections 2-3 and 7) or one pinion pair
+SP-RP (double-pinion set, section 5). From :func:`postprocess.train_results.train_results`:
+
+Single pinion (pinion frame of section 3): ``Mx_pin``, ``My_pin``, ``Mz_pin`` (N m), ``ZS``,
+``ZR`` (load-centroid offsets of the sun and ring meshes, mm), the LOA moments
+``M_LOA_sun = Mx cos(a1) + My sin(a1)``, ``M_LOA_ring = Mx cos(a2) - My sin(a2)`` (Table 3)
+from the FE moments, and ``analytic``: Table 7 (the Table 3 forces moved to the FE's own ZS,
+ZR).
+
+Double pinion (the SP and RP frames of section 5): ``Mx_SP``, ``My_SP``, ``Mx_RP``, ``My_RP``
+(N m), the centroid offsets of every mesh in the frame of each pinion in it (``Z_<mesh>_<p>``,
+with ``ZS``, ``Z_SPRP``, ``ZR`` for the sun-SP, SP-RP and RP-ring meshes), the FE axial
+forces, the four LOA moments of section 5 from the FE moments, and ``analytic``: Table 5
+(concentrated load at the pitch points) and the same closed form with each mesh force moved
+to the FE's own load centroid (``at_fe_centroids``).
+
+With several branches in a scene (``all_planets``) the top-level keys are the means over the
+branches and ``branches`` lists each.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from gears.analytic import double_pinion as dp
+from gears.analytic import single_pinion as sp
+from gears.analytic.planetary import (
+    double_pinion_axial_forces,
+    double_pinion_geometry,
+    single_pinion_geometry,
+)
+from gears.units import n_m
+
+#: top-level scalars of a branch, per gear-set kind (means over positions in a summary)
+MEAN_KEYS = {
+    "single_pinion": ("Mx_pin", "My_pin", "Mz_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring"),
+    "double_pinion": (
+        "Mx_SP", "My_SP", "Mz_SP", "Mx_RP", "My_RP", "Mz_RP", "ZS", "Z_SPRP", "ZR",
+        "M_LOA_SP_SUN", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_RING",
+    ),
+}  # fmt: skip
+
+
+def _single_branch(train: dict, gearset, names: list[str]) -> dict:
+    """Section 3 quantities of one sun-pinion-ring branch (see the module docstring)."""
+    sun, ring = gearset.power_path[0], gearset.power_path[-1]
+    (pinion,) = names
+    P = train["pinions"][pinion]
+    out: dict = {
+        "pinion": pinion,
+        "pinion_centre_mm": P["centre_mm"],
+        "frame": P["frame"],
+        "pinion_force_N": P["force_N"],
+        "Mx_pin": P["Mx"],
+        "My_pin": P["My"],
+        "Mz_pin": P["Mz"],
+        "pinion_moment_residual_Nm": P["moment_residual_Nm"],
+        "pinion_support_moment_Nm": P["support_moment_Nm"],
+        "bearing_spring_force_N": P["bearing_spring_force_N"],
+        "bearing_spring_moment_Nm": P["bearing_spring_moment_Nm"],
+        "pinion_tilt_rad": P["tilt_rad"],
+        "pinion_spin_moment_Nm": P["spin_moment_Nm"],
+    }
+    for key, mesh in (("S", f"{sun}-{pinion}"), ("R", f"{pinion}-{ring}")):
+        M = train["meshes"][mesh]
+        on = M["on"][pinion]
+        out[f"mesh_{key}"] = mesh
+        out[f"Z{key}"] = on["Z_mm"]
+        out[f"mesh_normal_force_{key}_N"] = M["normal_force_N"]
+        out[f"F{key}_pinion_N"] = on["force_N"]
+        out[f"active_points_{key}"] = M["active_points"]
+        out[f"grid_points_{key}"] = M["grid_points"]
+        out[f"centroid_{key}_mm"] = on["centroid_mm"]
+    inp = gearset.planetary_input()
+    geo = single_pinion_geometry(inp)
+    f = sp.mesh_forces(inp.torque_per_branch, geo)
+    out["M_LOA_sun"], out["M_LOA_ring"] = sp.loa_moments(
+        out["Mx_pin"], out["My_pin"], geo.alpha1, geo.alpha2
+    )
+    mx_a, my_a, mz_a = sp.pinion_moments(f, geo, out["ZS"], out["ZR"])
+    la_s, la_r = sp.loa_moments(mx_a, my_a, geo.alpha1, geo.alpha2)
+    out["analytic"] = {
+        "Mx_pin": mx_a,
+        "My_pin": my_a,
+        "Mz_pin": mz_a,
+        "M_LOA_sun": la_s,
+        "M_LOA_ring": la_r,
+        "FzS": f.FzS,
+        "FzR": f.FzR,
+        "Fpin": list(f.resultant),
+    }
+    return out
+
+
+def _double_branch(train: dict, gearset, names: list[str]) -> dict:
+    """Section 5 quantities of one sun-SP-RP-ring branch (see the module docstring)."""
+    sun, set_sp, set_rp, ring = gearset.power_path
+    b_sp, b_rp = names  # body names of this branch's SP and RP
+    roles = {b_sp: set_sp, b_rp: set_rp}
+    meshes = {
+        "sun-SP": f"{sun}-{b_sp}",
+        "SP-RP": f"{b_sp}-{b_rp}",
+        "RP-ring": f"{b_rp}-{ring}",
+    }
+    frames = {roles[b]: np.asarray(train["pinions"][b]["frame"]) for b in names}
+    centres = {roles[b]: np.asarray(train["pinions"][b]["centre_mm"]) for b in names}
+    out: dict = {"pinions": list(names), "centres_mm": {k: v.tolist() for k, v in centres.items()},
+                 "frames": {k: v.tolist() for k, v in frames.items()}}  # fmt: skip
+    for b in names:
+        pn, P = roles[b], train["pinions"][b]
+        out[f"Mx_{pn}"], out[f"My_{pn}"], out[f"Mz_{pn}"] = P["Mx"], P["My"], P["Mz"]
+        out[f"{pn}_force_N"] = P["force_N"]
+        out[f"{pn}_spin_moment_Nm"] = P["spin_moment_Nm"]
+        out[f"{pn}_support_moment_Nm"] = P["support_moment_Nm"]
+        out[f"{pn}_bearing_spring_force_N"] = P["bearing_spring_force_N"]
+        out[f"{pn}_bearing_spring_moment_Nm"] = P["bearing_spring_moment_Nm"]
+        out[f"{pn}_tilt_rad"] = P["tilt_rad"]
+    fe_fz, cent = {}, {}
+    for label, mesh in meshes.items():
+        M = train["meshes"][mesh]
+        out[f"normal_force_{label}_N"] = M["normal_force_N"]
+        out[f"active_points_{label}"] = M["active_points"]
+        out[f"grid_points_{label}"] = M["grid_points"]
+        for b, on in M["on"].items():
+            pn = roles[b]
+            fe_fz[(label, pn)] = float(on["force_N"][2])
+            cent[(label, pn)] = np.asarray(on["centroid_mm"] or [np.nan] * 3)
+            out[f"Z_{label}_{pn}"] = on["Z_mm"]
+            out[f"F_{label}_on_{pn}_N"] = on["force_N"]
+    out["FzSUN_fe"] = fe_fz[("sun-SP", "SP")]
+    out["FzRP_fe"] = fe_fz[("SP-RP", "SP")]
+    out["FzSP_fe"] = fe_fz[("SP-RP", "RP")]
+    out["FzRING_fe"] = fe_fz[("RP-ring", "RP")]
+    out["ZS"] = out["Z_sun-SP_SP"]
+    out["Z_SPRP"] = out["Z_SP-RP_SP"]
+    out["ZR"] = out["Z_RP-ring_RP"]
+    inp = gearset.planetary_input()
+    geo, fz = double_pinion_geometry(inp), double_pinion_axial_forces(inp)
+    out.update(dp.loa_moments(out["Mx_SP"], out["My_SP"], out["Mx_RP"], out["My_RP"], geo))
+    table5 = dp.double_pinion_moments(fz, geo)
+    # Closed form moved to the FE centroid offsets: the analytic mesh forces (axial part from
+    # the closed form, direction = the exact plane-of-action normal of the grid) at the pitch
+    # point + Z e_Z; the transverse parts then add Z x F_transverse to Mx, My.
+    fz_an = {
+        ("sun-SP", "SP"): fz.FzSUN,
+        ("SP-RP", "SP"): fz.FzRP,
+        ("SP-RP", "RP"): fz.FzSP,
+        ("RP-ring", "RP"): fz.FzRING,
+    }
+    # pitch point: operating pitch radius from the pinion centre towards the mating centre
+    pitch = {
+        ("sun-SP", "SP"): (geo.r_sp_sun, "sun"),
+        ("SP-RP", "SP"): (geo.r_sp_rp, "RP"),
+        ("SP-RP", "RP"): (geo.r_rp_sp, "SP"),
+        ("RP-ring", "RP"): (geo.r_rp_ring, "out"),
+    }
+    on_sign = {("sun-SP", "SP"): +1.0, ("SP-RP", "SP"): -1.0, ("SP-RP", "RP"): +1.0,
+               ("RP-ring", "RP"): -1.0}  # fmt: skip
+    shifted = {}
+    for pn in ("SP", "RP"):
+        Q = frames[pn]
+        m = np.zeros(3)
+        for (label, who), fza in fz_an.items():
+            if who != pn:
+                continue
+            normal = np.asarray(train["meshes"][meshes[label]]["normal"])
+            n = on_sign[(label, pn)] * (Q @ normal)
+            f_vec = fza / n[2] * n
+            r_w, towards = pitch[(label, pn)]
+            if towards == "sun":
+                d = -centres[pn]
+            elif towards == "out":
+                d = centres[pn].copy()
+            else:
+                d = centres[towards] - centres[pn]
+            d = Q @ (d / np.linalg.norm(d))
+            r = r_w * d + np.array([0.0, 0.0, out[f"Z_{label}_{pn}"]])
+            m += n_m(np.cross(r, f_vec))
+            # where the FE centroid sits along the transverse line of action from the pitch
+            # point (mm): the closed form has 0; the axial force there adds s x Fz to Mx, My
+            t = np.array([n[0], n[1], 0.0]) / math.hypot(n[0], n[1])
+            out[f"loa_offset_{label}_{pn}_mm"] = float((cent[(label, pn)] @ Q.T - r_w * d) @ t)
+        shifted[f"Mx_{pn}"], shifted[f"My_{pn}"] = float(m[0]), float(m[1])
+    shifted.update(
+        dp.loa_moments(shifted["Mx_SP"], shifted["My_SP"], shifted["Mx_RP"], shifted["My_RP"], geo)
+    )
+    out["analytic"] = {
+        "table5": table5,
+        "at_fe_centroids": shifted,
+        "FzSUN": fz.FzSUN,
+        "FzRP": fz.FzRP,
+        "FzSP": fz.FzSP,
+        "FzRING": fz.FzRING,
+        "theta_deg": math.degrees(geo.theta),
+        "phi_deg": math.degrees(geo.phi),
+    }
+    return out
+
+
+_BRANCH = {"single_pinion": _single_branch, "double_pinion": _double_branch}
+
+
+def branch_pinions(scene, gearset) -> list[list[str]]:
+    """The pinion body names of each branch of the scene, branch by branch."""
+    per = len(gearset.power_path) - 2
+    names = list(scene.pinion_names)
+    return [names[i : i + per] for i in range(0, len(names), per)]
+
+
+def paper_moments(train: dict, scene, gearset) -> dict:
+    """The paper's quantities of every branch (one branch: its dict; several: the means of
+    :data:`MEAN_KEYS` at the top level and ``branches``)."""
+    branch = _BRANCH[gearset.kind]
+    rows = [branch(train, gearset, names) for names in branch_pinions(scene, gearset)]
+    if len(rows) == 1:
+        return rows[0]
+    out = {k: float(np.mean([r[k] for r in rows])) for k in MEAN_KEYS[gearset.kind]}
+    out["branches"] = rows
+    return out

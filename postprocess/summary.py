@@ -1,0 +1,95 @@
+"""``summary.json`` of a study: the solved mesh positions reduced to what a report reads.
+
+Per position (:func:`position_record`): the paper's scalars of the gear-set kind
+(:data:`postprocess.paper_moments.MEAN_KEYS`), the peak and the mean-over-loaded-points
+Hertz contact stress of every mesh (:func:`postprocess.mesh_stress.contact_stress_at_points`;
+the peak sits at line ends: tip and face corners, no relief), the active points, the FE root
+stress and the wall time. The summary (:func:`summarise`) holds the means over the positions
+at the top level, the closed-form reference of the kind, the ISO 6336-3 nominal root stress,
+the per-position records, the failed positions, and ``inputs`` / ``provenance``: everything
+that produced it, so a report never re-reads a case file.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gears.analytic import single_pinion as sp
+from gears.analytic.planetary import single_pinion_geometry
+from postprocess.mesh_stress import contact_stress_at_points, iso_nominal_root_stress
+from postprocess.paper_moments import MEAN_KEYS
+
+
+def mesh_key(mesh: str) -> str:
+    """Summary key of a mesh grid name ("sun-pinion" -> "sun_pinion")."""
+    return mesh.replace("-", "_")
+
+
+def position_record(study, pos: dict) -> dict:
+    """What summary.json keeps of one position (scalars, per-mesh contact stress)."""
+    hz = contact_stress_at_points(study.gearset, study.material, pos)
+    rec = {k: pos[k] for k in MEAN_KEYS[study.gearset.kind]}
+    loaded = {m: v["p_max"][v["p_max"] > 0] for m, v in hz.items()}
+    rec.update(
+        roll=pos["roll"],
+        contact_stress_mean_loaded={
+            mesh_key(m): float(v.mean()) if v.size else 0.0 for m, v in loaded.items()
+        },
+        contact_stress={mesh_key(m): float(v["p_max"].max()) for m, v in hz.items()},
+        active_points={mesh_key(m): pos["meshes"][m]["active_points"] for m in hz},
+        bending_stress=pos.get("bending_stress"),
+        wall_time_s=pos["timings"]["wall"],
+        reused=bool(pos.get("reused", False)),
+    )
+    return rec
+
+
+def _mean_bending(records: list[dict]) -> dict | None:
+    """Mean over the positions of each FE root stress entry (MPa); an entry missing at a
+    position (no fillet cell) is left out of its mean."""
+    recs = [r["bending_stress"] for r in records if r.get("bending_stress")]
+    if not recs:
+        return None
+    keys = [k for k in recs[0] if k != "locations"]
+    out = {}
+    for k in keys:
+        vals = [r[k] for r in recs if r.get(k) is not None]
+        out[k] = float(np.mean(vals)) if vals else None
+    return out
+
+
+def analytic_reference(study, fe: dict) -> dict:
+    """The closed form of the kind beside the FE means: single pinion, singh2007 Table 3
+    (concentrated load) and Table 7 at the FE's own ZS, ZR (N m); double pinion, Table 5."""
+    if study.gearset.kind != "single_pinion":
+        return {}
+    inp = study.gearset.planetary_input()
+    geo = single_pinion_geometry(inp)
+    f = sp.mesh_forces(inp.torque_per_branch, geo)
+    out = {}
+    for name, (a, b) in (("concentrated", (0.0, 0.0)), ("at_fe_ZS_ZR", (fe["ZS"], fe["ZR"]))):
+        mx, my, _mz = sp.pinion_moments(f, geo, a, b)
+        la_s, la_r = sp.loa_moments(mx, my, geo.alpha1, geo.alpha2)
+        out[name] = {"Mx_pin": mx, "My_pin": my, "M_LOA_sun": la_s, "M_LOA_ring": la_r}
+    return out
+
+
+def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
+    """The summary of a study's positions; ``meta``: level, degree, inputs, provenance,
+    wall time (copied in as they are)."""
+    records = [position_record(study, p) for p in solved]
+    summary: dict = {"case": study.name, "description": study.description, **meta}
+    if records:
+        for k in MEAN_KEYS[study.gearset.kind]:
+            summary[k] = float(np.mean([r[k] for r in records]))
+        for key in ("contact_stress", "contact_stress_mean_loaded"):
+            summary[key] = {
+                m: float(np.mean([r[key][m] for r in records])) for m in records[0][key]
+            }
+        summary["analytic"] = analytic_reference(study, summary)
+        summary["dofs"] = solved[0]["dofs"]
+    summary["bending_stress"] = _mean_bending(records)  # FE fillet stress, mean over positions
+    summary["bending_stress_iso6336_nominal"] = iso_nominal_root_stress(study.gearset)
+    summary["positions"] = records
+    summary["failed_positions"] = failed
+    return summary

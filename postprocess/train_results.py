@@ -1,0 +1,128 @@
+"""What a solved gear train carries: per pinion and per gear mesh, in the paper's frames.
+
+From a solved :class:`solvers.gear_train.GearTrainModel` (replicated on every rank; N, N m,
+mm). Per pinion p (its frame Q_p, rows e_X, e_Y, e_Z, :func:`solvers.gear_train.
+pinion_frame`):
+
+* ``Mx``, ``My``, ``Mz`` (N m): the moment of the contact forces on the pinion about its
+  centre, M = sum (x_k - c) x f_k, which the bearing carries; also read back from the
+  assembled residual (``moment_residual_Nm``), the support reaction (``support_moment_Nm``)
+  and the bearing springs k q (``bearing_spring_moment_Nm``);
+* ``force_N``: the contact force on the pinion (= the bearing load); ``tilt_rad``.
+
+Per mesh m (a contact grid "driver-driven"): the normal force, the grid points with their
+forces and line loads, and for each pinion in the mesh the mesh force on it (+n if the pinion
+is driven, -n if it drives: n points from driver to driven), the load-centroid axial offset
+Z = sum F_k Z_k / sum F_k (mm from mid face width, Z along e_Z of that pinion) and the
+centroid vector from the pinion centre.
+
+Torques about the scene axis: applied sun torque, sun and ring contact torques, ring support
+reaction (their balance is a check the solver does not impose).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gears.units import n_m
+from solvers.results import contact_resultant, line_load, residual_resultant
+
+
+def body_resultants(problem, result) -> tuple[dict, float]:
+    """Per body (contact force, contact moment, residual resultants) and the largest relative
+    mismatch between the contact and residual resultants over every body."""
+    res = {}
+    for name in problem.bodies:
+        fc, mc = contact_resultant(problem, result, name)
+        res[name] = (fc, mc, residual_resultant(problem, result, name))
+    agree = 0.0
+    for f1, m1, r1 in res.values():
+        agree = max(
+            agree,
+            np.linalg.norm(f1 - r1["contact"][0]) / max(np.linalg.norm(f1), 1e-30),
+            np.linalg.norm(m1 - r1["contact"][1]) / max(np.linalg.norm(m1), 1e-30),
+        )
+    return res, float(agree)
+
+
+def _pinion(model, result, name: str, res) -> dict:
+    p = model.problem
+    Q = model.frames[name]
+    fc, mc, rr = res[name]
+    b = p.bodies[name]
+    q = b.reference_dofs(result.reduced[name])["bearing"]
+    c = b.couplings["bearing"]
+    kq = c.springs() * q
+    a = c.frame(3)
+    mx, my, mz = (float(v) for v in n_m(Q @ mc))
+    return {
+        "centre_mm": np.asarray(model.centres[name], float).tolist(),
+        "frame": Q.tolist(),
+        "Mx": mx,
+        "My": my,
+        "Mz": mz,
+        "force_N": (Q @ fc).tolist(),
+        "moment_residual_Nm": n_m(Q @ rr["contact"][1]).tolist(),
+        "support_moment_Nm": n_m(Q @ rr["support"][1]).tolist(),
+        "bearing_spring_force_N": (Q @ (a.T @ kq[:3])).tolist(),
+        "bearing_spring_moment_Nm": n_m(Q @ (a.T @ kq[3:])).tolist(),
+        "tilt_rad": (Q @ (a.T @ q[3:])).tolist(),
+        "spin_moment_Nm": float(n_m(mc[2])),
+    }
+
+
+def _mesh(model, result, index: int, zone) -> dict:
+    p = model.problem
+    sl = slice(p.offsets[index], p.offsets[index + 1])
+    F = result.forces[sl]
+    g = model.grids[p.pairs[index].grid.name][0]
+    tot = float(F.sum())
+    out = {
+        "driver": zone.driver,
+        "driven": zone.driven,
+        "gears": [model.scene.gear(zone.driver).gear_name, model.scene.gear(zone.driven).gear_name],
+        "normal_force_N": tot,
+        "active_points": int(np.count_nonzero(F > 0)),
+        "grid_points": g.n,
+        "normal": np.asarray(g.normals[0], float).tolist(),  # driver -> driven, scene frame
+        "points": {
+            "x_mm": g.x_a.tolist(),
+            "force_N": F.tolist(),
+            "line_load_N_per_mm": line_load(p, result, index).tolist(),
+        },
+        "on": {},
+    }
+    for pn, sgn in ((zone.driver, -1.0), (zone.driven, +1.0)):
+        if pn not in model.frames:
+            continue
+        Q = model.frames[pn]
+        rel = g.x_a - model.centres[pn]
+        Z = rel @ Q[2]
+        out["on"][pn] = {
+            "force_N": (sgn * tot * (Q @ g.normals[0])).tolist(),
+            "Z_mm": float((F * Z).sum() / tot) if tot > 0 else float("nan"),
+            "centroid_mm": ((F @ rel) / tot).tolist() if tot > 0 else None,
+        }
+    return out
+
+
+def train_results(model, result) -> dict:
+    """The summary of a solved gear train (see the module docstring)."""
+    p = model.problem
+    res, mismatch = body_resultants(p, result)
+    sun, ring = model.scene.sun_name, model.scene.ring_name
+    zones = {f"{z.driver}-{z.driven}": z for z in model.scene.zones}
+    meshes = {}
+    for i, pair in enumerate(p.pairs):
+        meshes[pair.grid.name] = _mesh(model, result, i, zones[pair.grid.name])
+    return {
+        "pinions": {pn: _pinion(model, result, pn, res) for pn in model.pinions},
+        "meshes": meshes,
+        "resultant_mismatch_rel": mismatch,
+        "sun_torque_applied_Nm": float(n_m(model.torque)),
+        "sun_contact_torque_Nm": float(n_m(res[sun][1][2])),
+        "ring_contact_torque_Nm": float(n_m(res[ring][1][2])),
+        "ring_support_torque_Nm": float(n_m(res[ring][2]["support"][1][2])),
+        "rigid": dict(result.rigid),
+        "active_set_iterations": len(result.history),
+    }

@@ -1,0 +1,58 @@
+"""Result files written safely: atomically (a reader never sees half a file, a kill or a full
+disk never leaves a truncated one) and under MPI from rank 0 with the outcome shared, so an
+I/O error on rank 0 ends every rank with the message instead of leaving the others waiting."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+
+class ResultFileError(OSError):
+    """A result file or folder could not be written or read; the message names it."""
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder + rename."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def write_json(path: Path, data) -> None:
+    atomic_write_text(path, json.dumps(data, indent=1) + "\n")
+
+
+def read_json(path: Path):
+    """The JSON in ``path``; a file that does not parse raises :class:`ResultFileError`
+    naming it."""
+    try:
+        return json.loads(Path(path).read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ResultFileError(f"{path}: cannot read ({exc})") from exc
+
+
+def on_root(comm, action: Callable[[], object], what: str):
+    """Run ``action`` on rank 0 only and return its result on every rank; an exception there
+    is re-raised on every rank as :class:`ResultFileError` (``what`` names the step)."""
+    value, err = None, None
+    if comm.rank == 0:
+        try:
+            value = action()
+        except Exception as exc:  # shared with the other ranks below
+            err = f"{what}: {type(exc).__name__}: {exc}"
+    if comm.size > 1:
+        err, value = comm.bcast((err, value), root=0)
+    if err is not None:
+        raise ResultFileError(err)
+    return value

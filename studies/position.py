@@ -1,0 +1,89 @@
+"""One mesh position of a study, end to end: scene -> placed meshes -> gear train -> solve ->
+results (collective; the same dict on every rank).
+
+The data flow of the pipeline in one function: the scene the case file names is built from
+its gear set at the sun angle ``roll`` (:func:`meshing.scenes.build_scene`), the body meshes
+are loaded and placed (:func:`meshing.placed_meshes.load_scene_bodies`), the contact model is
+built and solved (:mod:`solvers.gear_train`), and the result is reduced to what the gear
+train carries (:mod:`postprocess.train_results`), the paper's quantities of each branch
+(:mod:`postprocess.paper_moments`) and the FE root stress (:mod:`solvers.root_stress`).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from meshing import sizing
+from meshing.placed_meshes import load_scene_bodies
+from meshing.scenes import build_scene
+from postprocess.paper_moments import paper_moments
+from postprocess.train_results import train_results
+from solvers.gear_train import build_gear_train
+from solvers.results import write_vtx
+from solvers.root_stress import root_stress
+
+
+def solve_position(
+    study,
+    roll: float,
+    comm,
+    *,
+    level: int | None = None,
+    degree: int | None = None,
+    vtx_dir=None,
+    spacing: float | None = None,
+    width: float | None = None,
+    penalty_factor: float | None = None,
+    micro=None,
+    scene_options: dict | None = None,
+) -> dict:
+    """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
+    (``model.level``, ``numerics``); ``vtx_dir``: also write every body's displacement as
+    VTX there (``<body>.bp``); ``scene_options``: passed to the scene builder (e.g.
+    ``pinion_radial_offset`` in mm, ``phase_offsets``; :func:`meshing.scenes.planetary_scene`)."""
+    num = study.numerics
+    level = study.model.level if level is None else level
+    degree = num.degree if degree is None else degree
+    if spacing is None:
+        spacing = num.grid_spacing
+    if spacing is None:  # default: the flank element size of the level
+        spacing = sizing.check_level(level).fine
+    penalty = num.penalty_factor if penalty_factor is None else penalty_factor
+    t0 = time.perf_counter()
+    scene = build_scene(study.model.scene, study.gearset, roll, **(scene_options or {}))
+    t_scene = time.perf_counter()
+    meshes = load_scene_bodies(scene, level, comm)
+    t_meshes = time.perf_counter()
+    model = build_gear_train(scene, meshes, study, degree=degree, spacing=spacing,
+                             penalty_factor=penalty, width=width, micro=micro)  # fmt: skip
+    result = model.problem.solve()
+    t_solve = time.perf_counter()
+    if vtx_dir is not None:
+        write_vtx(vtx_dir, model.problem, result)
+    train = train_results(model, result)
+    out = {**train, **paper_moments(train, scene, study.gearset)}
+    out["bending_stress"] = root_stress(model, result)
+    out.update(
+        case=study.name,
+        scene=study.model.scene,
+        roll=roll,
+        dofs=model.dofs,
+        ranks=comm.size,
+        level=level,
+        degree=degree,
+        grid_spacing_mm=spacing,
+        penalty_factor=penalty,
+        timings={
+            "scene": t_scene - t0,
+            "meshes": t_meshes - t_scene,
+            **model.timings,
+            **{k: float(v) for k, v in result.timings.items()},
+            "solve_wall": t_solve - t_meshes,
+            "wall": time.perf_counter() - t0,
+        },
+    )
+    out["grid_lines"] = {k: v[1].lines for k, v in model.grids.items()}
+    out["g0_max_abs_mm"] = float(max(np.abs(v[0].gap0).max() for v in model.grids.values()))
+    return out
