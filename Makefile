@@ -13,6 +13,9 @@ CASE2   := 2B-GA 2B-GB
 GEARSETS := case1 case2
 PACKAGES := gears cases meshing solvers postprocess studies
 NP      ?= 1
+# QUIET=1: the study driver prints only warnings and errors (CI logs): `make 1-GA QUIET=1`
+QUIET   ?=
+STUDY_FLAGS := $(if $(filter 1 yes true,$(QUIET)),--quiet)
 
 # First Python >= 3.12 that actually runs: python3.12.. on PATH (a pyenv shim that is not
 # activated fails the check), then pyenv's installed versions.
@@ -22,7 +25,7 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 	    command -v "$$p"; exit 0; fi; done; exit 1
 
 .PHONY: all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
-	distclean help case1 $(CASE1) $(CASE2) study bench-case1
+	distclean help case1 case1-system case2 $(CASE1) $(CASE2) study bench-case1 bench-study
 
 all: setup analytic meshes case1 ## set up and run the main study
 
@@ -53,15 +56,29 @@ analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md
 
 # One FE study case: `make 1-GB`; `make 1-GB NP=2` runs it on 2 MPI ranks.
 $(CASE1) $(CASE2): $(STAMP)
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $@ --out $(RESULTS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $@ --out $(RESULTS) $(STUDY_FLAGS)
 
 # Any case file: `make study CASE=path/to/my_case.toml` (or a name in cases/).
 study: $(STAMP) ## one study for any case file: make study CASE=path/to/case.toml [NP=2]
 	@[ -n "$(CASE)" ] || { echo "error: give the case file: make study CASE=path/to/case.toml" >&2; exit 2; }
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE) --out $(RESULTS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE) --out $(RESULTS) $(STUDY_FLAGS)
 
-case1: $(CASE1) ## the four case-1 FE cases and their report: results/case1/report.md
+# The cases of a group run in one process: their bodies are factorized once and reused.
+case1: $(STAMP) ## the four case-1 FE cases and their report: results/case1/report.md
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --out $(RESULTS) $(STUDY_FLAGS)
 	$(PY) -m studies.case1_report --results $(RESULTS)
+
+case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/case1-system/report.md
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --scene system \
+	  --out $(RESULTS)/case1-system $(STUDY_FLAGS)
+	$(PY) -m studies.system_report --branch $(RESULTS) --system $(RESULTS)/case1-system \
+	  --cases $(CASE1) --pair 1-GB-R 1-GC
+
+case2: $(STAMP) ## the case-2 FE cases (double pinion): results/2B-*/
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(STUDY_FLAGS)
+
+bench-study: $(STAMP) ## reuse and MPI speed-ups of the study: results/bench/study.json
+	$(PY) -m studies.bench_study --out $(RESULTS)/bench --level 1
 
 meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
 	$(PY) -m studies.meshes --gearsets $(GEARSETS) --carrier --out $(RESULTS)/meshes

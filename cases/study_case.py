@@ -33,7 +33,7 @@ from cases.gearset import (
 from gears.material import STEEL
 
 CASE_DIR = Path(__file__).parent
-SCENES = ("one_branch", "all_planets")
+SCENES = ("one_branch", "all_planets", "system")
 MAX_LEVEL = 3
 MAX_POSITIONS = 50
 # The paper leaves the axial bearing stiffness out ("stiff"): 100x the radial rigid bearing.
@@ -113,6 +113,36 @@ class Numerics:
 
 DEFAULTS = Numerics()
 
+MAX_PIN_ERROR_UM = 1000.0  # a pin-hole position error beyond 1 mm is a drawing error
+
+
+@dataclass(frozen=True)
+class System:
+    """Settings of the system scene (``[system]``, every field optional; ``model.scene =
+    "system"``: every pinion on its pin of the elastic carrier)."""
+
+    # Radial support of the sun at its bore, N/mm in x and y; 0: floating (the usual
+    # planetary, centred by the meshes). The one-branch and all-planets scenes hold the sun.
+    sun_radial_stiffness: float = 0.0
+    # Pin-hole position error of each pinion's pin in the carrier, um, [tangential, radial]
+    # per pinion in carrier order (tangential along the sun's sense of rotation); empty: none.
+    pin_position_errors_um: tuple[tuple[float, float], ...] = ()
+
+    def check(self, planets: int, source: str) -> None:
+        k = self.sun_radial_stiffness
+        if not _real(k) or k < 0:
+            raise CaseError(f"{source}: system.sun_radial_stiffness = {k!r}: must be >= 0 N/mm")
+        e = self.pin_position_errors_um
+        ok = all(
+            len(pe) == 2 and all(_real(v) and abs(v) <= MAX_PIN_ERROR_UM for v in pe) for pe in e
+        )
+        if not ok or len(e) not in (0, planets):
+            raise CaseError(
+                f"{source}: system.pin_position_errors_um = {list(map(list, e))!r}: must be "
+                f"empty or {planets} pairs [tangential, radial] of numbers within "
+                f"+-{MAX_PIN_ERROR_UM:g} um (one per pinion)"
+            )
+
 
 @dataclass(frozen=True)
 class StudyCase:
@@ -123,11 +153,14 @@ class StudyCase:
     material: Material
     model: Model
     numerics: Numerics
+    system: System = System()
     path: str = field(default="", compare=False)  # the file read ("" if parsed from a mapping)
     source: dict = field(default_factory=dict, compare=False, repr=False)  # its TOML mapping
 
 
-_TOP_FIELDS = ("name", "gearset", "description", "bearing", "material", "model", "numerics")
+_TOP_FIELDS = (
+    "name", "gearset", "description", "bearing", "material", "model", "numerics", "system"
+)  # fmt: skip
 
 
 def _names(cls) -> tuple[str, ...]:
@@ -225,8 +258,18 @@ def parse_study_case(
         numerics = Numerics(**n)
     except CaseError as exc:
         raise CaseError(f"{source}: {exc}") from exc
+    s = check_keys(data.get("system", {}), _names(System), source, "system")
+    raw_errors = s.get("pin_position_errors_um", [])
+    try:
+        errors = tuple(tuple(pe) for pe in raw_errors)
+    except TypeError:
+        errors = ((float("nan"),),)  # not a list of pairs: refused by the check
+    system = System(s.get("sun_radial_stiffness", 0.0), errors)
+    system.check(gearset.planets, source)
+    errors = tuple((float(a), float(b)) for a, b in system.pin_position_errors_um)
+    system = System(float(system.sun_radial_stiffness), errors)
     return StudyCase(
-        name, description, gearset, bearing, material, model, numerics, str(path), data
+        name, description, gearset, bearing, material, model, numerics, system, str(path), data
     )
 
 
@@ -263,6 +306,10 @@ def study_inputs(study: StudyCase) -> dict[str, Any]:
             "material": asdict(study.material),
             "model": asdict(study.model),
             "numerics": asdict(study.numerics),
+            "system": {
+                "sun_radial_stiffness": study.system.sun_radial_stiffness,
+                "pin_position_errors_um": [list(e) for e in study.system.pin_position_errors_um],
+            },
         },
         "gearset": {
             "name": gs.name,

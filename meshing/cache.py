@@ -80,7 +80,7 @@ NOT_MESH_SHAPING: tuple[str, ...] = (
     "meshing.cache",
     "meshing.pictures",
     "meshing.to_dolfinx",
-    "meshing.placed_meshes",
+    "meshing.scene_bodies",
 )
 
 # The sha256 of a cached .msh is checked on reuse up to this size (~0.1 s at 1.5 GB/s);

@@ -27,7 +27,7 @@ from meshing.gmsh_util import (
 )
 from meshing.sizing import MeshingError
 
-MESHER_VERSION = "carrier-1"
+MESHER_VERSION = "carrier-2"  # 2: plate hubs tagged
 
 
 @dataclass(frozen=True)
@@ -127,7 +127,8 @@ def build_geometry(gmsh, spec: CarrierSpec) -> int:
 
 
 def classify_surfaces(gmsh, spec: CarrierSpec, vol: int) -> dict[str, list[int]]:
-    """Pin surfaces by distance from each pin axis; plate outer faces by z; rest other."""
+    """Pin surfaces by distance from each pin axis; plate outer faces by z; plate hubs (inner
+    cylinders) by radius and side; rest other."""
     z_out = spec.plate_z[1]
     r_pin = 0.5 * spec.pin_diameter
     centres = [
@@ -141,6 +142,8 @@ def classify_surfaces(gmsh, spec: CarrierSpec, vol: int) -> dict[str, list[int]]
             name = T.carrier_surface(T.PLATE_ZPOS)
         elif np.all(np.abs(xyz[:, 2] + z_out) < 1e-6):
             name = T.carrier_surface(T.PLATE_ZNEG)
+        elif np.all(np.abs(np.hypot(xyz[:, 0], xyz[:, 1]) - spec.plate_inner_radius) < 1e-6):
+            name = T.carrier_surface(T.HUB_ZPOS if xyz[:, 2].mean() > 0 else T.HUB_ZNEG)
         else:
             for k, c in enumerate(centres):
                 if np.all(np.abs(np.hypot(xyz[:, 0] - c[0], xyz[:, 1] - c[1]) - r_pin) < 1e-6):

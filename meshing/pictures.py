@@ -7,6 +7,7 @@ flanks and fillets of the active teeth are drawn in a stronger shade with their 
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +18,24 @@ from meshing import tags as T
 # pyvista is heavy: it is imported lazily, inside the functions that draw.
 
 BODY_COLOURS = ["#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#edc948", "#b07aa1"]
+
+
+@contextlib.contextmanager
+def vtk_warnings_off():
+    """vtk's warning output off while our pictures are drawn, back as it was after.
+
+    Without a display, vtk's X render window prints "bad X server connection. DISPLAY=" with
+    raw colour codes through its output window when the first off-screen plotter is made
+    (into log files too); the picture is drawn off-screen all the same. Only vtk's own
+    switch is used (``vtkObject.GlobalWarningDisplayOff``), only around our drawing."""
+    from vtkmodules.vtkCommonCore import vtkObject
+
+    before = vtkObject.GetGlobalWarningDisplay()
+    vtkObject.GlobalWarningDisplayOff()
+    try:
+        yield
+    finally:
+        vtkObject.SetGlobalWarningDisplay(before)
 
 
 def surface_polydata(msh_path: Path):
@@ -65,10 +84,15 @@ def scene_picture(
     """Write a PNG of the mesh in ``msh_path``: transverse view from +z, (if ``focus`` =
     (point, half height in mm)) a close transverse view of a mesh zone with mesh edges,
     and an oblique view. The carrier is drawn translucent so the gears stay visible."""
+    with vtk_warnings_off():
+        return _scene_picture(Path(msh_path), png_path, title, focus)
+
+
+def _scene_picture(msh_path: Path, png_path: Path, title: str, focus) -> Path:
     import pyvista as pv
 
     pv.OFF_SCREEN = True
-    poly, bodies = surface_polydata(Path(msh_path))
+    poly, bodies = surface_polydata(msh_path)
     views = ["xy", "zoom", "iso"] if focus is not None else ["xy", "iso"]
     plotter = pv.Plotter(
         off_screen=True, shape=(1, len(views)), window_size=(900 * len(views), 900)
@@ -90,7 +114,7 @@ def scene_picture(
             plotter.view_xy()
             plotter.enable_parallel_projection()
             plotter.add_legend(bcolor="white", size=(0.2, 0.06 * len(bodies)))
-            plotter.add_text(title or Path(msh_path).stem, font_size=10)
+            plotter.add_text(title or msh_path.stem, font_size=10)
         elif view == "zoom":
             point, half = focus
             plotter.view_xy()

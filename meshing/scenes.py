@@ -14,7 +14,9 @@ The registry :data:`SCENES` holds the scenes a study case may name (``model.scen
   pinion(s). Three equal branches on a rigid carrier share the torque equally.
 * ``all_planets``: every branch at the carrier angles nearest to equal spacing that the
   assembly condition allows (:func:`gears.analytic.phasing.assemblable_angles`), with the
-  full sun and ring.
+  full sun and ring; the pins are rigid.
+* ``system``: ``all_planets`` with the carrier as a body: two plates joined by posts, one
+  pin per pinion (:mod:`meshing.carrier`).
 
 ``Scene.report()`` lists what each scene leaves out.
 """
@@ -186,13 +188,18 @@ def _check_phase(scene_name: str, zone: MeshZone, drv: PlacedGear, dvn: PlacedGe
         )
 
 
-def _finish_gear(pg: PlacedGear, contact: list[int], full: bool, radius_kw: dict) -> PlacedGear:
+def _finish_gear(
+    pg: PlacedGear, contact: list[int], cover: set[int], full: bool, radius_kw: dict
+) -> PlacedGear:
+    """The body of a placed gear: refined around the teeth in ``cover`` (the teeth in contact
+    anywhere in the mesh cycle) and, for a sector, cut around them."""
     g = pg.gear
-    active = _widen(contact, g.teeth, ACTIVE_MARGIN)
+    teeth = sorted(set(contact) | set(cover))
+    active = _widen(teeth, g.teeth, ACTIVE_MARGIN)
     if full:
         body = GearBody(g, **radius_kw)
     else:
-        body = _sector(g, _teeth_around(contact, g.teeth, ACTIVE_MARGIN + SECTOR_MARGIN), radius_kw)
+        body = _sector(g, _teeth_around(teeth, g.teeth, ACTIVE_MARGIN + SECTOR_MARGIN), radius_kw)
     return replace(
         pg, body=body, active_teeth=tuple(sorted(active)), contact_teeth=tuple(sorted(contact))
     )
@@ -251,6 +258,7 @@ def planetary_scene(
     pin_diameter: float = PIN_DIAMETER,
     carrier: bool = False,
     rp_side: int = +1,
+    cycle_bodies: bool = True,
 ) -> Scene:
     """The gear set at sun angle ``roll`` (rad): one branch on +x, or every branch.
 
@@ -258,8 +266,24 @@ def planetary_scene(
     ``pinion_radial_offset`` (mm) moves the first pinion of each branch off its centre
     distance; both are checked on exact geometry and a scene that interpenetrates raises
     :class:`MeshingError` before any meshing. ``carrier`` adds the carrier body.
+
+    ``cycle_bodies``: every body covers (sector) and refines the teeth in contact anywhere in
+    the mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun; sampled
+    at five angles), so all the positions of a cycle share the same bodies and a body's
+    stiffness and factorization serve them all. Off: the teeth in contact at ``roll`` only.
     """
     roll = _validate_roll(roll)
+    options = {"phase_offsets": phase_offsets, "pinion_radial_offset": pinion_radial_offset,
+               "pin_diameter": pin_diameter, "carrier": carrier, "rp_side": rp_side}  # fmt: skip
+    cover: dict[str, set[int]] = {}
+    if cycle_bodies:
+        pitch = 2 * math.pi / gearset.gears[gearset.power_path[0]].teeth
+        start = math.floor(roll / pitch + 1e-9) * pitch
+        for f in (0.0, 0.25, 0.5, 0.75, 1.0):
+            sc = planetary_scene(gearset, start + f * pitch, all_planets, cycle_bodies=False,
+                                 **options)  # fmt: skip
+            for g in sc.gears:
+                cover.setdefault(g.name, set()).update(g.contact_teeth)
     path = gearset.power_path
     sun, ring = gearset.gears[path[0]], gearset.gears[path[-1]]
     pinions = path[1:-1]
@@ -324,7 +348,7 @@ def planetary_scene(
         notes.append(f"triangle angle at the sun between SP and RP: {math.degrees(psi_t):.3f} deg")
     full = {path[0]: all_planets, path[-1]: all_planets, **{n: True for n in pinion_names}}
     radius_kw = {path[0]: sun_kw, path[-1]: ring_kw, **{n: pin_kw for n in pinion_names}}
-    kind = "all" if all_planets else "branch"
+    kind = ("all" if all_planets else "branch") + ("-carrier" if carrier else "")
     return _assemble_scene(
         f"{gearset.name}-{kind}",
         gearset.name,
@@ -337,6 +361,7 @@ def planetary_scene(
         carrier=carrier_spec(gearset, pin_diameter) if carrier else None,
         notes=notes,
         branches=len(angles),
+        cover=cover,
     )
 
 
@@ -346,12 +371,19 @@ def branch_scene(gearset, roll: float = 0.0, **options) -> Scene:
 
 
 def all_planets_scene(gearset, roll: float = 0.0, **options) -> Scene:
-    """``all_planets``: every branch, full sun and ring (see :func:`planetary_scene`)."""
+    """``all_planets``: every branch, full sun and ring, pins rigid (see
+    :func:`planetary_scene`)."""
     return planetary_scene(gearset, roll, all_planets=True, **options)
 
 
+def system_scene(gearset, roll: float = 0.0, **options) -> Scene:
+    """``system``: every branch, full sun and ring, and the elastic carrier with one pin per
+    pinion (see :func:`planetary_scene`)."""
+    return planetary_scene(gearset, roll, all_planets=True, carrier=True, **options)
+
+
 def _assemble_scene(
-    name, gearset, roll, gears, zones, full, radius_kw, left_out, carrier, notes, branches
+    name, gearset, roll, gears, zones, full, radius_kw, left_out, carrier, notes, branches, cover
 ):
     by_name = {g.name: g for g in gears}
     # Contact lines and the teeth in contact.
@@ -366,8 +398,10 @@ def _assemble_scene(
         zones_done.append(zn)
     # Bodies: sectors / full, refined teeth.
     placed = [
-        _finish_gear(g, sorted(contact[g.name]), full[g.name], radius_kw[g.name]) for g in gears
-    ]
+        _finish_gear(g, sorted(contact[g.name]), cover.get(g.name, set()), full[g.name],
+                     radius_kw[g.name])
+        for g in gears
+    ]  # fmt: skip
     by_name = {g.name: g for g in placed}
     for zn in zones_done:
         _check_phase(name, zn, by_name[zn.driver], by_name[zn.driven])
@@ -385,7 +419,7 @@ def _assemble_scene(
 
 
 #: The scenes a study case may name (``model.scene``), each ``builder(gearset, roll, **opts)``.
-SCENES = {"one_branch": branch_scene, "all_planets": all_planets_scene}
+SCENES = {"one_branch": branch_scene, "all_planets": all_planets_scene, "system": system_scene}
 if set(SCENES) != set(SCENE_NAMES):  # the case-file vocabulary and this registry are one list
     raise ImportError(f"meshing.scenes.SCENES {sorted(SCENES)} != cases SCENES {SCENE_NAMES}")
 

@@ -50,9 +50,11 @@ MIN_SICN = 0.15
 def check_level(level) -> Level:
     """The :class:`Level` for ``level``; :class:`MeshingError` if out of range."""
     if isinstance(level, bool) or not isinstance(level, int) or not 0 <= level < len(LEVELS):
+        last = len(LEVELS) - 1
         raise MeshingError(
-            f"level = {level!r}: must be an integer from 0 to {len(LEVELS) - 1} "
-            "(the resolution ladder in meshing.sizing.LEVELS)"
+            f"level = {level!r}: must be an integer from 0 to {last}, the mesh resolution "
+            f"ladder (flank elements {LEVELS[0].fine:g} mm at level 0, for CI, to "
+            f"{LEVELS[last].fine:g} mm at level {last}; meshing.sizing.LEVELS)"
         )
     return LEVELS[level]
 

@@ -16,6 +16,7 @@ A name is ``"<body>"`` for the volume of a body and ``"<body>/<region>"`` for a 
 ``<body>/cut_pos``, ``<body>/cut_neg``    sector cut faces at the +theta / -theta end
 ``carrier/pin<K>``                        cylindrical surface of pin K (carries the bearing)
 ``carrier/plate_zpos``, ``plate_zneg``    outer faces of the carrier plates
+``carrier/hub_zpos``, ``hub_zneg``        inner (hub) cylinders of the carrier plates
 ``carrier/other``                         every other carrier surface
 ``<body>/other``                          every other surface of a gear (not expected)
 ========================================  =================================================
@@ -61,6 +62,9 @@ BODY_KINDS = (BORE, RIM, END_ZPOS, END_ZNEG, CUT_POS, CUT_NEG, OTHER)
 CARRIER = "carrier"
 PLATE_ZPOS = "plate_zpos"
 PLATE_ZNEG = "plate_zneg"
+HUB_ZPOS = "hub_zpos"
+HUB_ZNEG = "hub_zneg"
+CARRIER_KINDS = (PLATE_ZPOS, PLATE_ZNEG, HUB_ZPOS, HUB_ZNEG, OTHER)
 
 _BODY_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 _TOOTH_RE = re.compile(r"^(?P<body>[A-Za-z][A-Za-z0-9_]*)/tooth(?P<idx>\d+)/(?P<kind>[a-z_]+)$")
@@ -113,9 +117,9 @@ def pin(index: int) -> str:
 
 
 def carrier_surface(kind: str) -> str:
-    """Name of a carrier surface: ``plate_zpos``, ``plate_zneg`` or ``other``."""
-    if kind not in (PLATE_ZPOS, PLATE_ZNEG, OTHER):
-        raise ValueError(f"carrier surface kind {kind!r}: must be plate_zpos, plate_zneg, other")
+    """Name of a carrier surface, one of :data:`CARRIER_KINDS`."""
+    if kind not in CARRIER_KINDS:
+        raise ValueError(f"carrier surface kind {kind!r}: must be one of {CARRIER_KINDS}")
     return f"{CARRIER}{SEP}{kind}"
 
 

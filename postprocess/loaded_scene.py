@@ -9,13 +9,18 @@ from pathlib import Path
 import numpy as np
 
 from meshing.build import scene_mesh_file
-from meshing.pictures import BODY_COLOURS, save_screenshot, surface_polydata
+from meshing.pictures import BODY_COLOURS, save_screenshot, surface_polydata, vtk_warnings_off
 
 
 def loaded_scene_picture(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
     """PNG of ``scene`` (the scene ``pos`` was solved in, at level ``level``) with every
     contact grid point of every mesh as a sphere coloured by its line load (N/mm).
     Serial: call on one rank (the body meshes are already cached by the solve)."""
+    with vtk_warnings_off():
+        return _draw(scene, pos, level, Path(png_path), title)
+
+
+def _draw(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
     import pyvista as pv  # heavy: only when a picture is drawn
 
     pv.OFF_SCREEN = True

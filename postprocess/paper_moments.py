@@ -213,11 +213,21 @@ def branch_pinions(scene, gearset) -> list[list[str]]:
 
 def paper_moments(train: dict, scene, gearset) -> dict:
     """The paper's quantities of every branch (one branch: its dict; several: the means of
-    :data:`MEAN_KEYS` at the top level and ``branches``)."""
+    :data:`MEAN_KEYS` at the top level and ``branches``, each with its carrier angle and its
+    load share: the normal force of its sun mesh over the mean of all branches (the tangential
+    force in the same ratio, the meshes being alike), and ``K_gamma``, the largest share)."""
     branch = _BRANCH[gearset.kind]
-    rows = [branch(train, gearset, names) for names in branch_pinions(scene, gearset)]
+    groups = branch_pinions(scene, gearset)
+    rows = [branch(train, gearset, names) for names in groups]
     if len(rows) == 1:
         return rows[0]
+    sun = scene.sun_name
+    loads = np.array([train["meshes"][f"{sun}-{names[0]}"]["normal_force_N"] for names in groups])
+    for row, names, load in zip(rows, groups, loads, strict=True):
+        c = train["pinions"][names[0]]["centre_mm"]
+        row["angle_deg"] = float(np.degrees(np.arctan2(c[1], c[0])) % 360.0)
+        row["load_share"] = float(load / loads.mean())
     out = {k: float(np.mean([r[k] for r in rows])) for k in MEAN_KEYS[gearset.kind]}
+    out["K_gamma"] = float(max(r["load_share"] for r in rows))
     out["branches"] = rows
     return out

@@ -1,13 +1,20 @@
 """``summary.json`` of a study: the solved mesh positions reduced to what a report reads.
 
 Per position (:func:`position_record`): the paper's scalars of the gear-set kind
-(:data:`postprocess.paper_moments.MEAN_KEYS`), the peak and the mean-over-loaded-points
-Hertz contact stress of every mesh (:func:`postprocess.mesh_stress.contact_stress_at_points`;
-the peak sits at line ends: tip and face corners, no relief), the active points, the FE root
-stress and the wall time. The summary (:func:`summarise`) holds the means over the positions
-at the top level, the closed-form reference of the kind, the ISO 6336-3 nominal root stress,
-the per-position records, the failed positions, and ``inputs`` / ``provenance``: everything
-that produced it, so a report never re-reads a case file.
+(:data:`postprocess.paper_moments.MEAN_KEYS`), the peak, the interior peak and the
+mean-over-loaded-points Hertz contact stress of every mesh (:func:`postprocess.mesh_stress.
+contact_stress_at_points`; the peak sits at line ends: tip and face corners, no relief;
+interior: :func:`postprocess.mesh_stress.edge_points`), the active points, the FE root stress
+and the wall time. The summary (:func:`summarise`) holds the means over the positions at the
+top level, the closed-form reference of the kind, the ISO 6336-3 nominal root stress, the
+per-position records, the failed positions, and ``inputs`` / ``provenance``: everything that
+produced it, so a report never re-reads a case file.
+
+Contact stress: ``contact_stress`` and ``contact_stress_mean_loaded`` are kept as before (the
+means over the positions of each position's peak and of its mean over loaded points); the
+numbers to quote are in ``contact_stress_cycle`` (per mesh, :func:`postprocess.mesh_stress.
+contact_stress_cycle`): the maximum over the mesh cycle at interior points, the edge maximum
+as an edge-load indicator, K_Hbeta = w_max / w_mean and ISO 6336-2 sigma_H0 sqrt(K_Hbeta).
 """
 
 from __future__ import annotations
@@ -16,7 +23,12 @@ import numpy as np
 
 from gears.analytic import single_pinion as sp
 from gears.analytic.planetary import single_pinion_geometry
-from postprocess.mesh_stress import contact_stress_at_points, iso_nominal_root_stress
+from postprocess.mesh_stress import (
+    contact_stress_at_points,
+    contact_stress_cycle,
+    edge_points,
+    iso_nominal_root_stress,
+)
 from postprocess.paper_moments import MEAN_KEYS
 
 
@@ -28,14 +40,19 @@ def mesh_key(mesh: str) -> str:
 def position_record(study, pos: dict) -> dict:
     """What summary.json keeps of one position (scalars, per-mesh contact stress)."""
     hz = contact_stress_at_points(study.gearset, study.material, pos)
+    edges = edge_points(study.gearset, pos)
     rec = {k: pos[k] for k in MEAN_KEYS[study.gearset.kind]}
     loaded = {m: v["p_max"][v["p_max"] > 0] for m, v in hz.items()}
+    interior = {m: v["p_max"][~edges[m]["edge"]] for m, v in hz.items()}
     rec.update(
         roll=pos["roll"],
         contact_stress_mean_loaded={
             mesh_key(m): float(v.mean()) if v.size else 0.0 for m, v in loaded.items()
         },
         contact_stress={mesh_key(m): float(v["p_max"].max()) for m, v in hz.items()},
+        contact_stress_interior={
+            mesh_key(m): float(v.max()) if v.size else None for m, v in interior.items()
+        },
         active_points={mesh_key(m): pos["meshes"][m]["active_points"] for m in hz},
         bending_stress=pos.get("bending_stress"),
         wall_time_s=pos["timings"]["wall"],
@@ -74,6 +91,27 @@ def analytic_reference(study, fe: dict) -> dict:
     return out
 
 
+def _system_means(study, solved: list[dict]) -> dict:
+    """Per branch (pinion) the means over the positions of its scalars and load share, the
+    load-sharing factor K_gamma (the largest share at any position) and, with a carrier body,
+    the torque balance, the sun centre displacement and the carrier wind-up."""
+    keys = (*MEAN_KEYS[study.gearset.kind], "load_share")
+    n = len(solved[0]["branches"])
+    pinions = []
+    for i in range(n):
+        rows = [p["branches"][i] for p in solved]
+        rec = {"angle_deg": rows[0]["angle_deg"]}
+        rec.update({k: float(np.mean([r[k] for r in rows])) for k in keys})
+        pinions.append(rec)
+    out: dict = {"pinions": pinions, "K_gamma": float(max(p["K_gamma"] for p in solved))}
+    if "carrier" in solved[0]:
+        out["torque_balance_rel"] = float(max(p["torque_balance_rel"] for p in solved))
+        out["sun_centre_displacement_mm"] = np.mean(
+            [p["sun_centre_displacement_mm"] for p in solved], axis=0).tolist()  # fmt: skip
+        out["carrier_windup_rad"] = float(np.mean([p["carrier"]["windup_rad"] for p in solved]))
+    return out
+
+
 def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
     """The summary of a study's positions; ``meta``: level, degree, inputs, provenance,
     wall time (copied in as they are)."""
@@ -86,8 +124,12 @@ def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
             summary[key] = {
                 m: float(np.mean([r[key][m] for r in records])) for m in records[0][key]
             }
+        cycle = contact_stress_cycle(study.gearset, study.material, solved)
+        summary["contact_stress_cycle"] = {mesh_key(m): v for m, v in cycle.items()}
         summary["analytic"] = analytic_reference(study, summary)
         summary["dofs"] = solved[0]["dofs"]
+        if "branches" in solved[0]:
+            summary.update(_system_means(study, solved))
     summary["bending_stress"] = _mean_bending(records)  # FE fillet stress, mean over positions
     summary["bending_stress_iso6336_nominal"] = iso_nominal_root_stress(study.gearset)
     summary["positions"] = records

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from gears.units import n_m
+from solvers.gear_train import BEARING_DOFS
 from solvers.results import contact_resultant, line_load, residual_resultant
 
 
@@ -46,14 +47,11 @@ def body_resultants(problem, result) -> tuple[dict, float]:
 
 
 def _pinion(model, result, name: str, res) -> dict:
-    p = model.problem
     Q = model.frames[name]
     fc, mc, rr = res[name]
-    b = p.bodies[name]
-    q = b.reference_dofs(result.reduced[name])["bearing"]
-    c = b.couplings["bearing"]
-    kq = c.springs() * q
-    a = c.frame(3)
+    # the bore's six rigid motions (scene axes) and the bearing's spring load on the pin
+    q = np.array([result.rigid[f"{name}_{d}"] for d in BEARING_DOFS])
+    kq = model.bearing_load(name, result.rigid)
     mx, my, mz = (float(v) for v in n_m(Q @ mc))
     return {
         "centre_mm": np.asarray(model.centres[name], float).tolist(),
@@ -64,9 +62,10 @@ def _pinion(model, result, name: str, res) -> dict:
         "force_N": (Q @ fc).tolist(),
         "moment_residual_Nm": n_m(Q @ rr["contact"][1]).tolist(),
         "support_moment_Nm": n_m(Q @ rr["support"][1]).tolist(),
-        "bearing_spring_force_N": (Q @ (a.T @ kq[:3])).tolist(),
-        "bearing_spring_moment_Nm": n_m(Q @ (a.T @ kq[3:])).tolist(),
-        "tilt_rad": (Q @ (a.T @ q[3:])).tolist(),
+        "bearing_spring_force_N": (Q @ kq[:3]).tolist(),
+        "bearing_spring_moment_Nm": n_m(Q @ kq[3:]).tolist(),
+        "tilt_rad": (Q @ np.array([q[3], q[4], 0.0])).tolist(),  # about the pinion's X, Y
+        "spin_rad": float(q[5]),
         "spin_moment_Nm": float(n_m(mc[2])),
     }
 
@@ -106,6 +105,28 @@ def _mesh(model, result, index: int, zone) -> dict:
     return out
 
 
+def _carrier(model, result) -> dict:
+    """The carrier of a system scene: the bearing loads on its pins, its reaction torque at
+    the hub, the displacement and wind-up (mean rotation about z) of the pins."""
+    rigid = result.rigid
+    torque, windup, pins = 0.0, [], {}
+    for p in model.pinions:
+        pin = model.pins[p]
+        load = model.bearing_load(p, rigid)  # on the pin, scene axes
+        c = model.centres[p]
+        torque += c[0] * load[1] - c[1] * load[0] + load[5]
+        q = np.array([rigid[f"{pin}_{d}"] for d in BEARING_DOFS])
+        r = float(np.hypot(c[0], c[1]))
+        windup.append((c[0] * q[1] - c[1] * q[0]) / (r * r))
+        pins[pin] = {"pinion": p, "load_N_Nmm": load.tolist(), "displacement": q.tolist()}
+    return {
+        # the hub holds the carrier against the bearing loads on its pins
+        "support_torque_Nm": float(n_m(-torque)),
+        "windup_rad": float(np.mean(windup)),
+        "pins": pins,
+    }
+
+
 def train_results(model, result) -> dict:
     """The summary of a solved gear train (see the module docstring)."""
     p = model.problem
@@ -115,7 +136,7 @@ def train_results(model, result) -> dict:
     meshes = {}
     for i, pair in enumerate(p.pairs):
         meshes[pair.grid.name] = _mesh(model, result, i, zones[pair.grid.name])
-    return {
+    out = {
         "pinions": {pn: _pinion(model, result, pn, res) for pn in model.pinions},
         "meshes": meshes,
         "resultant_mismatch_rel": mismatch,
@@ -126,3 +147,10 @@ def train_results(model, result) -> dict:
         "rigid": dict(result.rigid),
         "active_set_iterations": len(result.history),
     }
+    if model.carrier is not None:
+        out["carrier"] = _carrier(model, result)
+        out["sun_centre_displacement_mm"] = [result.rigid[f"{sun}_{d}"] for d in ("x", "y")]
+        tot = out["sun_torque_applied_Nm"] + out["ring_support_torque_Nm"]
+        tot += out["carrier"]["support_torque_Nm"]
+        out["torque_balance_rel"] = abs(tot) / out["sun_torque_applied_Nm"]
+    return out

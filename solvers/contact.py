@@ -20,17 +20,25 @@ Each body is in equilibrium with its load and the contact forces,
 
     K_b u_b = f_b + G_b^T F,                                                      (2)
 
-and each rigid unknown balances its generalized load (torque, force) against contact:
+and each rigid unknown balances its generalized load (torque, force) against contact and
+the springs between rigid unknowns (a needle bearing between a pinion and its pin, a support
+to ground, the condensed stiffness of an elastic carrier at its pins), K_r the small
+symmetric matrix they assemble and f_d the forces of springs with a rest offset d (a pin
+position error: energy k (r_a - r_b - d)^2 / 2 gives f_d = +k d on a, -k d on b):
 
-    R^T F + f_r = 0.                                                               (3)
+    R^T F + f_r + f_d - K_r r = 0.                                                 (3)
+
+Springs act on rigid unknowns, never inside a body's K: a pinion whose bore reference DOFs
+are all rigid unknowns is clamped at the bore in its FE system, so its factorization does not
+depend on the bearing and serves every case that differs only in bearing stiffness.
 
 Condensation (exact for the penalty method, no approximation): with the compliance
 C = sum_b G_b K_b^{-1} G_b^T (dense, n x n, from ONE factorization per body, multi-RHS
 solves) and the no-contact gaps g_f = sum_b G_b K_b^{-1} f_b, on the active set A
 (F = 0 off A) eqs. (1)-(3) become the small symmetric saddle-point system
 
-    [ C_AA + D_A   R_A ] [F_A]   [ -(g0 + g_f)_A ]
-    [ R_A^T         0  ] [ r ] = [ -f_r          ],   D = diag(1 / (eps_k w_k)),    (4)
+    [ C_AA + D_A   R_A  ] [F_A]   [ -(g0 + g_f)_A ]
+    [ R_A^T       -K_r ] [ r ] = [ -f_r - f_d    ],   D = diag(1 / (eps_k w_k)),    (4)
 
 (prescribed rigid unknowns move to the right-hand side). This is K + G_A^T E_A G_A condensed
 exactly, so the penalty sweep converges to the eps -> inf limit of the same discrete model.
@@ -88,7 +96,8 @@ class RigidUnknown:
     system; the superposed field is that DOF's rigid mode about the coupling's x_ref.
     On a rigid obstacle: ``x_ref`` and ``direction`` (translation) or ``axis`` (rotation).
     ``load`` is the generalized force (N or N mm) on the mode; ``prescribed`` fixes r instead
-    (displacement control, no balance equation).
+    (displacement control, no balance equation). ``axes``: rows a_j of the frame the FE
+    body's mode is taken in, scene frame (default: the coupling's axes, placed with the body).
     """
 
     name: str
@@ -100,6 +109,40 @@ class RigidUnknown:
     axis: Sequence[float] | None = None
     load: float = 0.0
     prescribed: float | None = None
+    axes: Sequence[Sequence[float]] | None = None
+
+
+@dataclass(frozen=True)
+class Spring:
+    """A linear spring between two rigid unknowns (``b`` None: to ground), stiffness ``k``
+    (N/mm or N mm/rad) and rest offset ``offset`` (mm or rad): energy
+    k (r_a - r_b - offset)^2 / 2."""
+
+    a: str
+    b: str | None
+    k: float
+    offset: float = 0.0
+
+    def __post_init__(self):
+        if not (self.k >= 0 and np.isfinite(self.k)):
+            raise ValueError(f"spring {self.a}-{self.b}: k = {self.k!r} must be finite, >= 0")
+        if not np.isfinite(self.offset):
+            raise ValueError(f"spring {self.a}-{self.b}: offset {self.offset!r} must be finite")
+
+
+@dataclass(frozen=True, eq=False)
+class StiffnessBlock:
+    """A symmetric stiffness matrix ``K`` acting on the rigid unknowns ``names`` (the
+    condensed stiffness of an elastic body at its reference points, e.g. a carrier at its
+    pins; :mod:`solvers.superelement`)."""
+
+    names: tuple[str, ...]
+    K: np.ndarray
+
+    def __post_init__(self):
+        k = np.asarray(self.K, dtype=float)
+        if k.shape != (len(self.names), len(self.names)) or not np.all(np.isfinite(k)):
+            raise ValueError(f"stiffness block on {self.names}: K must be finite and square")
 
 
 @dataclass
@@ -128,6 +171,8 @@ class ContactProblem:
         bodies: the FE bodies (set up here if not yet).
         pairs: flank pairs.
         rigid_unknowns: explicit rigid motions with their balance equations.
+        springs: springs between rigid unknowns or to ground (K_r, f_d of eq. (3)).
+        blocks: stiffness matrices on groups of rigid unknowns (added to K_r).
         obstacles: names of rigid, FE-free counterparts (fixed unless a rigid unknown moves them).
         penalty_factor: eps = penalty_factor * E* / h.
         block_size: right-hand sides per MUMPS multi-RHS solve when forming C.
@@ -140,7 +185,9 @@ class ContactProblem:
         bodies: Sequence[ElasticBody],
         pairs: Sequence[ContactPair],
         rigid_unknowns: Sequence[RigidUnknown] = (),
+        springs: Sequence[Spring] = (),
         obstacles: Sequence[str] = (),
+        blocks: Sequence[StiffnessBlock] = (),
         penalty_factor: float = DEFAULTS.penalty_factor,
         block_size: int | None = None,
         eager: bool = False,
@@ -149,6 +196,9 @@ class ContactProblem:
         self.comm: MPI.Comm = bodies[0].comm
         self.pairs = list(pairs)
         self.rigid_unknowns = list(rigid_unknowns)
+        self.springs = list(springs)
+        self.blocks = list(blocks)
+        self._rigid_stiffness()  # checks the names now
         self.obstacles = set(obstacles)
         self.penalty_factor = float(penalty_factor)
         self.block_size = block_size
@@ -165,6 +215,32 @@ class ContactProblem:
         self.timings: dict[str, float] = {}
         self._prepared = False
 
+    def _rigid_stiffness(self) -> tuple[np.ndarray, np.ndarray]:
+        """K_r and f_d of eq. (3) from the springs and stiffness blocks (checked by name)."""
+        index = {ru.name: j for j, ru in enumerate(self.rigid_unknowns)}
+        K_r = np.zeros((len(index), len(index)))
+        f_d = np.zeros(len(index))
+        for s in self.springs:
+            for nm in (s.a, s.b):
+                if nm is not None and nm not in index:
+                    raise KeyError(f"spring {s.a}-{s.b}: no rigid unknown '{nm}'")
+            i = index[s.a]
+            K_r[i, i] += s.k
+            f_d[i] += s.k * s.offset
+            if s.b is not None:
+                j = index[s.b]
+                K_r[j, j] += s.k
+                K_r[i, j] -= s.k
+                K_r[j, i] -= s.k
+                f_d[j] -= s.k * s.offset
+        for blk in self.blocks:
+            missing = [nm for nm in blk.names if nm not in index]
+            if missing:
+                raise KeyError(f"stiffness block: no rigid unknown(s) {missing}")
+            ids = [index[nm] for nm in blk.names]
+            K_r[np.ix_(ids, ids)] += np.asarray(blk.K, dtype=float)
+        return K_r, f_d
+
     # ------------------------------------------------------------------ building blocks
     def _blocks(self, name: str):
         out = []
@@ -179,9 +255,10 @@ class ContactProblem:
         """(x_ref, function x -> psi(x) (m, gdim)) of a rigid unknown."""
         gdim = self.gdim
         if ru.body in self.bodies:
-            c = self.bodies[ru.body].couplings[ru.coupling]
-            x_ref = np.asarray(c.x_ref, float)[:gdim]
-            axes = c.frame(gdim)
+            b = self.bodies[ru.body]
+            c = b.couplings[ru.coupling]
+            x_ref = b.to_scene(np.asarray(c.x_ref, float)[:gdim])
+            axes = c.frame(gdim) @ b.rotation.T if ru.axes is None else np.asarray(ru.axes)
             j = ru.dof
 
             def psi(x):
@@ -213,7 +290,14 @@ class ContactProblem:
         t0 = MPI.Wtime()
         for ru in self.rigid_unknowns:
             if ru.body in self.bodies:
-                self.bodies[ru.body].hold(ru.coupling, ru.dof)
+                b = self.bodies[ru.body]
+                if not b.ready:
+                    b.hold(ru.coupling, ru.dof)
+                elif (ru.coupling, ru.dof) not in b.held:  # a body kept from another problem
+                    raise ValueError(
+                        f"rigid unknown '{ru.name}': body '{ru.body}' was factorized without "
+                        f"DOF {ru.dof} of '{ru.coupling}' held"
+                    )
             elif ru.body not in self.obstacles:
                 raise KeyError(f"rigid unknown '{ru.name}': unknown body '{ru.body}'")
         for b in self.bodies.values():
@@ -394,7 +478,8 @@ class ContactProblem:
         )
         is_pres = ~np.isnan(pres)
         free = np.flatnonzero(~is_pres)
-        f_r = np.array([loads.get(ru.name, ru.load) for ru in self.rigid_unknowns])
+        K_r, f_d = self._rigid_stiffness()
+        f_r = np.array([loads.get(ru.name, ru.load) for ru in self.rigid_unknowns]) + f_d
         g_base = self.gap0 + self.g_f + (self.R[:, is_pres] @ pres[is_pres] if nr else 0.0)
         A = self._initial_active(g_base, len(free) > 0)
         history: list[dict] = []
@@ -410,7 +495,9 @@ class ContactProblem:
             Rf = self.R[np.ix_(idx, free)]
             M[:nA, nA:] = Rf
             M[nA:, :nA] = Rf.T
-            rhs = np.concatenate([-g_base[idx], -f_r[free]])
+            M[nA:, nA:] = -K_r[np.ix_(free, free)]
+            f_springs = K_r[np.ix_(free, np.flatnonzero(is_pres))] @ pres[is_pres]
+            rhs = np.concatenate([-g_base[idx], -f_r[free] + f_springs])
             # the small dense system is solved on rank 0 and broadcast: every rank then holds
             # bitwise the same iterate and takes the same active-set decisions
             sol, ok = None, True
@@ -421,8 +508,11 @@ class ContactProblem:
                 except np.linalg.LinAlgError:
                     ok = False
                 if nf and nA:
-                    # a rigid unknown with no active point is undetermined
-                    sv = np.linalg.svd(Rf, compute_uv=False)
+                    # a rigid unknown that neither an active point nor a spring restrains is
+                    # undetermined (springs scaled to the contact columns' units)
+                    Kf = K_r[np.ix_(free, free)]
+                    sc = max(np.abs(Rf).max(), 1e-300) / max(np.abs(Kf).max(), 1e-300)
+                    sv = np.linalg.svd(np.vstack([Rf, sc * Kf]), compute_uv=False)
                     ok = ok and sv.min() > 1e-12 * max(sv.max(), 1e-300)
             sol, ok = self.comm.bcast((sol, ok), root=0)
             if not ok or (nf and nA == 0):
@@ -495,11 +585,12 @@ class ContactProblem:
             x = b.solve(rhs)
             red[name] = x
             rig = np.zeros(b.n_own)
+            xs = b.to_scene(b.dof_x[: b.n_own])
             for j, ru in enumerate(self.rigid_unknowns):
                 if ru.body == name and r[j] != 0:
                     _, psi = self._mode(ru)
-                    xs = b.dof_x[: b.n_own]
-                    rig += r[j] * psi(xs)[np.arange(b.n_own), b.dof_comp[: b.n_own]]
+                    field = psi(xs) @ b.rotation  # scene-frame rigid field in the body frame
+                    rig += r[j] * field[np.arange(b.n_own), b.dof_comp[: b.n_own]]
             disp[name] = b.expand(x, rig)
         t2 = MPI.Wtime()
         names = [p.grid.name for p in self.pairs]

@@ -15,6 +15,11 @@ and held reference DOFs) zeroed in rows and columns with the mean diagonal of K 
 the diagonal (so the scaling stays that of K and a constrained rigid mode stays visibly
 constrained in the singularity check).
 
+Placement. A body is assembled in its own frame; ``place(Q, t)`` says where it sits in the
+scene (x_scene = Q x + t, a rigid map). K does not depend on the placement, so one
+factorization serves every mesh position; the contact grid is mapped into the body frame
+(:mod:`solvers.gap_operator`) and the results back (:mod:`solvers.results`).
+
 Parallel layout of u_red: every rank owns its FE DOFs in DOLFINx order; the reference DOFs
 are appended to rank 0's block, so a full global index g becomes g + n_ref on ranks > 0.
 """
@@ -168,9 +173,44 @@ class ElasticBody:
             s = mpi_sum(self.comm, np.append(x.sum(axis=0), len(x)))
             centre = s[:-1] / s[-1]
         self.centre = np.asarray(centre, dtype=float)[: self.gdim]
+        self.rotation = np.eye(self.gdim)  # placement in the scene: x_scene = Q x + t
+        self.translation = np.zeros(self.gdim)
         self._held: set[tuple[str, int]] = set()
         self._ready = False
         self.timings: dict[str, float] = {}
+
+    # ------------------------------------------------------------------ placement
+    def place(self, rotation: np.ndarray, translation: Sequence[float]) -> None:
+        """Place the body in the scene: x_scene = Q x_body + t (Q orthonormal). K, its
+        factorization and every body-frame quantity stay as they are."""
+        Q = np.asarray(rotation, dtype=float)[: self.gdim, : self.gdim]
+        if not np.allclose(Q @ Q.T, np.eye(self.gdim), atol=1e-12):
+            raise ValueError(f"body '{self.name}': placement rotation must be orthonormal")
+        self.rotation = Q
+        self.translation = np.asarray(translation, dtype=float)[: self.gdim]
+
+    def to_scene(self, x: np.ndarray) -> np.ndarray:
+        """Body-frame points (..., gdim) in the scene frame."""
+        return np.asarray(x, dtype=float) @ self.rotation.T + self.translation
+
+    def to_body(self, x: np.ndarray) -> np.ndarray:
+        """Scene-frame points (..., gdim) in the body frame."""
+        return (np.asarray(x, dtype=float) - self.translation) @ self.rotation
+
+    @property
+    def scene_centre(self) -> np.ndarray:
+        """The centre moments are reported about, in the scene frame."""
+        return self.to_scene(self.centre)
+
+    @property
+    def ready(self) -> bool:
+        """True once K is assembled, reduced and factorized (:meth:`setup`)."""
+        return self._ready
+
+    @property
+    def held(self) -> frozenset[tuple[str, int]]:
+        """The (coupling, DOF) pairs held in the FE system (rigid unknowns)."""
+        return frozenset(self._held)
 
     # ------------------------------------------------------------------ set-up
     def hold(self, coupling: str, dof: int) -> None:

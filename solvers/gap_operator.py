@@ -13,6 +13,10 @@ smallest excursion outside the reference simplex is used (the affine field is ex
 Each point is owned by exactly one rank (smallest excursion, then lowest rank), decided by two
 Allreduce calls that every rank joins, also a rank that owns no point.
 
+Grid points and normals come in the scene frame and are mapped into the body frame by the
+body's placement (x_b = Q^T (x - t), n_b = Q^T n; :meth:`solvers.elastic_body.ElasticBody.
+place`), so a body factorized once serves every mesh position.
+
 G is a PETSc AIJ matrix (rows: all grid points of the problem, columns: the body's reduced
 layout), formed as G_full P_b so that points on coupled surfaces are handled too.
 """
@@ -130,6 +134,7 @@ def gap_matrix(body, blocks, n_rows: int) -> tuple[PETSc.Mat, np.ndarray]:
     for offset, grid, side in blocks:
         sign = 1.0 if side == "b" else -1.0
         pts, parent, wq = grid.spread_points(side)
+        pts = body.to_body(pts)  # the grid is in the scene frame, the body in its own
         mine, cells, X, h = locate(body, pts, None)
         np.maximum.at(h_rows, offset + parent, h)
         if not np.any(mine):
@@ -137,7 +142,7 @@ def gap_matrix(body, blocks, n_rows: int) -> tuple[PETSc.Mat, np.ndarray]:
         phi = elem.tabulate(0, X[mine])[0, :, :, 0]  # (p, ndofs)
         c = cells[mine]
         blk = dofs_cell[c]  # (p, ndofs) local block indices
-        nrm = np.asarray(grid.normals, dtype=float)[parent[mine]]  # (p, gdim)
+        nrm = np.asarray(grid.normals, dtype=float)[parent[mine]] @ body.rotation  # body frame
         w = sign * wq[mine]
         r = offset + parent[mine]
         for comp in range(gdim):

@@ -1,16 +1,29 @@
 """The contact model of a gear scene: any number of pinions and meshes, one builder.
 
-Handed a scene (:mod:`meshing.scenes`: the sun first, the pinions, the ring last, and one
-mesh zone per gear mesh) and the body meshes already placed in the scene frame
-(:func:`meshing.placed_meshes.load_scene_bodies`), :func:`build_gear_train` sets up:
+Handed a scene (:mod:`meshing.scenes`: the sun first, the pinions, the ring last, one mesh
+zone per gear mesh, and possibly the carrier) and the body meshes in their own frames
+(:func:`meshing.scene_bodies.load_body_meshes`), :func:`build_gear_train` places each body
+by its gear's placement (a rigid map: the body's stiffness and factorization, kept in a
+:class:`solvers.body_store.BodyStore`, serve every mesh position) and sets up:
 
-* the sun: its bore rigidly coupled to the axis point, all rigid DOFs fixed but the rotation
-  about z, which is an explicit rigid unknown balanced by the sun torque of the scene (the
-  input torque times the share of the branches the scene holds). A sun sector's cut faces
+* the sun: its bore rigidly coupled to the axis point, the rotation about z an explicit
+  rigid unknown balanced by the sun torque of the scene (the input torque times the share of
+  the branches the scene holds). Without a carrier body the other five DOFs are fixed; with
+  one (the ``system`` scene) the sun floats radially: its x and y translations are rigid
+  unknowns on the case's radial support springs (0: floating). A sun sector's cut faces
   are free;
-* every pinion (full): its bore on the study's needle bearing (6x6 diagonal about the pin
-  centre: radial x and y, axial, tilting about x and y, spin free), the spin an explicit
-  rigid unknown with a zero-moment equation;
+* every pinion (full): its bore rigidly coupled to the pin centre and clamped there in the
+  FE system; the six rigid motions of the bore (x, y, z translations, tilts about x and y,
+  spin about z; scene axes) are explicit rigid unknowns ``<pinion>_x`` ... ``<pinion>_spin``
+  held by the study's needle bearing, a 6x6 diagonal spring (radial x and y, axial, tilting
+  about x and y, spin free: a zero-moment equation) to its pin: a rigid, fixed pin, or the
+  pin of the elastic carrier. The springs live outside the body's factorization;
+* the carrier (``system`` scene): an elastic steel body (the gears' modulus factor does not
+  apply) held at the hub of its -z plate, condensed onto its pins (each pin surface a rigid
+  ring on a reference point at the pin centre; :class:`solvers.superelement.Superelement`):
+  rigid unknowns ``carrier_pin<k>_<dof>`` with the carrier's condensed stiffness. A pin-hole
+  position error e (tangential along the sun's rotation, radial) offsets the bearing
+  spring's rest position, k (q_pinion - q_pin - e);
 * the ring: held at its outer rim (homogeneous Dirichlet on ``<ring>/rim``), so the ring
   reaction torque is the rim support reaction;
 * one contact pair per mesh zone, on the exact contact-line grid of
@@ -30,16 +43,24 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from gears.units import n_mm
-from solvers.contact import ContactProblem, RigidUnknown
+from meshing import tags as T
+from solvers.body_store import BodyStore
+from solvers.contact import ContactProblem, RigidUnknown, Spring, StiffnessBlock
 from solvers.contact_grid import ContactGrid
 from solvers.elastic_body import Dirichlet, ElasticBody, Material
 from solvers.flank_grid import FlankGridInfo, flank_contact_pairs
-from solvers.rigid_coupling import RigidCoupling, bearing
+from solvers.rigid_coupling import RigidCoupling
+from solvers.superelement import Superelement
+
+#: the six bore DOFs of a pinion (and of a carrier pin), as rigid unknowns <name>_<dof>
+BEARING_DOFS = ("x", "y", "z", "rx", "ry", "spin")
+CARRIER = T.CARRIER
+UM = 1e-3  # mm per um
 
 
 def pinion_frame(centre) -> np.ndarray:
@@ -58,12 +79,26 @@ class GearTrainModel:
     torque: float  # N mm on the sun
     centres: dict[str, np.ndarray]  # pinion centres (scene frame, mm)
     frames: dict[str, np.ndarray]  # pinion frames (rows e_X, e_Y, e_Z)
+    bearings: dict[str, np.ndarray]  # pinion -> the 6 bearing stiffnesses (scene axes)
     dofs: int
     timings: dict
+    pins: dict[str, str | None] = field(default_factory=dict)  # pinion -> carrier pin prefix
+    pin_errors: dict[str, np.ndarray] = field(default_factory=dict)  # pinion -> 6 offsets
+    carrier: Superelement | None = None
 
     @property
     def pinions(self) -> tuple[str, ...]:
         return tuple(self.centres)
+
+    def bearing_load(self, pinion: str, rigid: dict[str, float]) -> np.ndarray:
+        """The bearing's spring load on the pin (6: N along x, y, z, N mm about x, y, z;
+        scene axes): k (q_pinion - q_pin - e)."""
+        q = np.array([rigid[f"{pinion}_{d}"] for d in BEARING_DOFS])
+        pin = self.pins.get(pinion)
+        if pin is not None:
+            q = q - np.array([rigid[f"{pin}_{d}"] for d in BEARING_DOFS])
+        q = q - self.pin_errors.get(pinion, np.zeros(6))
+        return self.bearings[pinion] * q
 
 
 def sun_torque(gearset, branches: int) -> float:
@@ -75,38 +110,132 @@ def total_dofs(bodies) -> int:
     return sum(b.V.dofmap.index_map.size_global * b.V.dofmap.index_map_bs for b in bodies)
 
 
-def gear_bodies(scene, meshes: dict, study, degree: int) -> tuple[list[ElasticBody], dict]:
-    """The elastic bodies of the scene's gears (scene frame) and the pinion centres."""
+def _rotation_z(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def bearing_stiffness(bearing) -> np.ndarray:
+    """The 6 diagonal needle-bearing stiffnesses along :data:`BEARING_DOFS` (N/mm, N mm/rad):
+    radial x and y, axial, tilting about x and y, spin free."""
+    b = bearing
+    return np.array([b.radial_stiffness, b.radial_stiffness, b.axial_stiffness,
+                     b.tilting_stiffness, b.tilting_stiffness, 0.0])  # fmt: skip
+
+
+def _held_body(store, key, make, held):
+    def made():
+        b = make()
+        for coupling, dof in held:
+            b.hold(coupling, dof)
+        return b
+
+    return store.body(key, made)
+
+
+def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> list[ElasticBody]:
+    """The elastic bodies of the scene's gears, each in its own frame and placed in the scene:
+    the sun bore slaved to its axis, every pinion bore slaved to its centre (all six DOFs
+    held as rigid unknowns), the ring held at its rim. Kept in ``store`` by (mesh, degree,
+    material, supports)."""
     mat = Material(study.material.gear_youngs_modulus, study.material.poisson_ratio)
-    brg, origin = study.bearing, (0.0, 0.0, 0.0)
+    origin = (0.0, 0.0, 0.0)
     sun, ring = scene.sun_name, scene.ring_name
-    centres = {p: np.array([*scene.gear(p).placement.centre, 0.0]) for p in scene.pinion_names}
+    floating = scene.carrier is not None
     bodies = []
     for g in scene.gears:
         nm = g.name
-        bundle, tags = meshes[nm]
+        bm = meshes[nm]
         kw: dict = {"centre": origin}
+        held: list[tuple[str, int]] = []  # reference DOFs left to rigid unknowns
         if nm == sun:
-            fixed = (math.inf,) * 5 + (0.0,)  # rotation about z left to a rigid unknown
+            inf = math.inf
+            fixed = (0.0, 0.0, inf, inf, inf, 0.0) if floating else (inf,) * 5 + (0.0,)
             kw["couplings"] = [RigidCoupling("axis", f"{nm}/bore", origin, fixed)]
+            held = [("axis", 0), ("axis", 1), ("axis", 5)] if floating else [("axis", 5)]
+            role = "sun-floating" if floating else "sun"
         elif nm == ring:
             kw["dirichlet"] = [Dirichlet(f"{nm}/rim")]
+            role = "ring"
         else:
-            c = tuple(centres[nm])
-            kw["centre"] = c
-            kw["couplings"] = [
-                bearing(
-                    "bearing",
-                    f"{nm}/bore",
-                    c,
-                    (0.0, 0.0, 1.0),
-                    brg.radial_stiffness,
-                    brg.tilting_stiffness,
-                    brg.axial_stiffness,
-                )
-            ]
-        bodies.append(ElasticBody(nm, bundle.mesh, bundle.facet_tags, tags, mat, degree, **kw))
-    return bodies, centres
+            kw["couplings"] = [RigidCoupling("bearing", f"{nm}/bore", origin, (0.0,) * 6)]
+            held = [("bearing", j) for j in range(len(BEARING_DOFS))]
+            role = "pinion"
+
+        def make(bm=bm, nm=nm, kw=kw):
+            return ElasticBody(nm, bm.bundle.mesh, bm.bundle.facet_tags, bm.tags, mat, degree,
+                               **kw)  # fmt: skip
+
+        b = _held_body(store, (bm.key, degree, mat.E, mat.nu, role), make, held)
+        b.place(_rotation_z(g.placement.angle), (*g.placement.centre, 0.0))
+        bodies.append(b)
+    return bodies
+
+
+def carrier_superelement(scene, meshes: dict, study, degree: int, store) -> Superelement:
+    """The carrier condensed onto its pins: steel (no gear modulus factor), held at the hub
+    of its -z plate, each pin surface a rigid ring on a reference point at the pin centre."""
+    spec = scene.carrier
+    mat = Material(study.material.youngs_modulus, study.material.poisson_ratio)
+    bm = meshes[CARRIER]
+    rc = spec.pin_circle_radius
+    couplings = [
+        RigidCoupling(f"pin{k}", T.pin(k), (rc * math.cos(a), rc * math.sin(a), 0.0), (0.0,) * 6)
+        for k, a in enumerate(spec.pin_angles)
+    ]
+    hub = Dirichlet(T.carrier_surface(T.HUB_ZNEG))
+
+    def make():
+        mb = bm.bundle
+        kw = {"couplings": couplings, "dirichlet": [hub], "centre": (0.0, 0.0, 0.0)}
+        body = ElasticBody(CARRIER, mb.mesh, mb.facet_tags, bm.tags, mat, degree, **kw)
+        return Superelement(body)
+
+    return store.keep((bm.key, degree, mat.E, mat.nu, "carrier-superelement"), make)
+
+
+def bearing_unknowns(pinion: str, k: np.ndarray, pin: str | None, offset: np.ndarray):
+    """The six rigid unknowns of a pinion's bore (scene axes) and the bearing springs that
+    hold them to the pin: ``pin`` (the prefix of a carrier pin's unknowns) or, if None, a
+    rigid pin fixed in space. ``offset``: the springs' rest offsets (pin-hole error)."""
+    unknowns = [
+        RigidUnknown(f"{pinion}_{d}", pinion, coupling="bearing", dof=j, axes=np.eye(3))
+        for j, d in enumerate(BEARING_DOFS)
+    ]
+    springs = [
+        Spring(f"{pinion}_{d}", None if pin is None else f"{pin}_{d}", float(kj), float(o))
+        for d, kj, o in zip(BEARING_DOFS, k, offset, strict=True)
+        if kj > 0
+    ]
+    return unknowns, springs
+
+
+def _pin_unknowns(se: Superelement) -> tuple[list[RigidUnknown], StiffnessBlock, list[str]]:
+    """Rigid unknowns of the carrier's pin reference DOFs (scene axes: the carrier is not
+    turned) and the carrier's condensed stiffness on them."""
+    body = se.body
+    names, unknowns, prefixes = [], [], []
+    for cname, c in body.couplings.items():
+        prefix = f"{CARRIER}_{cname}"
+        prefixes.append(prefix)
+        for j, d in enumerate(BEARING_DOFS):
+            e = np.eye(3)[j % 3]
+            kw = {"direction": e} if j < 3 else {"axis": e}
+            unknowns.append(RigidUnknown(f"{prefix}_{d}", CARRIER, x_ref=c.x_ref, **kw))
+            names.append(f"{prefix}_{d}")
+    if [f"{CARRIER}_{c}_{BEARING_DOFS[j]}" for c, j in se.dofs] != names:
+        raise RuntimeError("carrier superelement DOFs out of order")
+    return unknowns, StiffnessBlock(tuple(names), se.S), prefixes
+
+
+def pin_error_offsets(error_um, angle: float) -> np.ndarray:
+    """Bearing-spring rest offsets (6, mm) of a pin-hole error [tangential, radial] (um) at
+    carrier angle ``angle``: tangential along the sun's (counter-clockwise) rotation."""
+    e_t, e_r = (v * UM for v in error_um)
+    radial = np.array([math.cos(angle), math.sin(angle)])
+    tangential = np.array([-math.sin(angle), math.cos(angle)])
+    xy = e_r * radial + e_t * tangential
+    return np.array([xy[0], xy[1], 0.0, 0.0, 0.0, 0.0])
 
 
 def build_gear_train(
@@ -119,35 +248,61 @@ def build_gear_train(
     penalty_factor: float,
     width: float | None = None,
     micro: Callable | None = None,
+    store: BodyStore | None = None,
 ) -> GearTrainModel:
     """The contact problem of ``scene`` (see the module docstring).
 
     Args:
         scene: :class:`meshing.scenes.Scene`.
-        meshes: body name -> (mesh bundle, facet tag names) placed in the scene frame.
-        study: :class:`cases.study_case.StudyCase` (material, bearing, torque).
+        meshes: body name -> :class:`meshing.scene_bodies.BodyMesh` (body frame).
+        study: :class:`cases.study_case.StudyCase` (material, bearing, torque, system).
         degree: Lagrange degree of the bodies.
         spacing: contact grid point spacing along the contact lines (mm).
         penalty_factor: contact penalty scale (see :class:`solvers.contact.ContactProblem`).
         width: grid patch width across the lines (mm; default ``spacing``).
         micro: optional ``micro(zone, points) -> (n,)`` added to the initial gap (mm).
+        store: where set-up bodies are kept across positions and cases (default: a new one).
     """
     t0 = time.perf_counter()
-    bodies, centres = gear_bodies(scene, meshes, study, degree)
+    store = BodyStore() if store is None else store
+    bodies = gear_bodies(scene, meshes, study, degree, store)
     grids, pairs = flank_contact_pairs(scene, spacing, width, micro)
     torque = sun_torque(study.gearset, scene.branches)
     sun = scene.sun_name
-    problem = ContactProblem(
-        bodies,
-        pairs,
-        [
-            RigidUnknown(f"{sun}_rotation", sun, coupling="axis", dof=5, load=torque),
-            *(RigidUnknown(f"{p}_spin", p, coupling="bearing", dof=5, load=0.0) for p in centres),
-        ],
-        penalty_factor=penalty_factor,
-    )
+    centres = {p: np.array([*scene.gear(p).placement.centre, 0.0]) for p in scene.pinion_names}
+    k = bearing_stiffness(study.bearing)
+    unknowns = [RigidUnknown(f"{sun}_rotation", sun, coupling="axis", dof=5, load=torque)]
+    springs, blocks, obstacles = [], [], []
+    pins: dict[str, str | None] = dict.fromkeys(centres)
+    errors = {p: np.zeros(6) for p in centres}
+    carrier = None
+    if scene.carrier is not None:
+        k_sun = study.system.sun_radial_stiffness
+        for j, d in ((0, "x"), (1, "y")):
+            unknowns.append(RigidUnknown(f"{sun}_{d}", sun, coupling="axis", dof=j, axes=np.eye(3)))
+            if k_sun > 0:
+                springs.append(Spring(f"{sun}_{d}", None, k_sun))
+        carrier = carrier_superelement(scene, meshes, study, degree, store)
+        pin_unknowns, block, prefixes = _pin_unknowns(carrier)
+        unknowns += pin_unknowns
+        blocks.append(block)
+        obstacles.append(CARRIER)
+        angles = scene.carrier.pin_angles
+        if len(prefixes) != len(centres):
+            raise ValueError(f"{len(prefixes)} carrier pins for {len(centres)} pinions")
+        pin_err = study.system.pin_position_errors_um or ((0.0, 0.0),) * len(centres)
+        for p, prefix, a, e in zip(centres, prefixes, angles, pin_err, strict=True):
+            pins[p] = prefix
+            errors[p] = pin_error_offsets(e, a)
+    for p in centres:
+        u, s = bearing_unknowns(p, k, pins[p], errors[p])
+        unknowns += u
+        springs += s
+    problem = ContactProblem(bodies, pairs, unknowns, springs, obstacles=obstacles,
+                             blocks=blocks, penalty_factor=penalty_factor)  # fmt: skip
     frames = {p: pinion_frame(c) for p, c in centres.items()}
+    bearings = {p: k.copy() for p in centres}
+    dofs = total_dofs(bodies) + (total_dofs([carrier.body]) if carrier else 0)
     timings = {"model": time.perf_counter() - t0}
-    return GearTrainModel(
-        problem, scene, grids, torque, centres, frames, total_dofs(bodies), timings
-    )
+    return GearTrainModel(problem, scene, grids, torque, centres, frames, bearings, dofs,
+                          timings, pins, errors, carrier)  # fmt: skip

@@ -11,6 +11,10 @@ Resultants on body b about its centre c, two ways that must agree:
   linear fields, so both sums equal the contact ones up to the solver's round-off. The
   same sums over the support DOFs give the support reaction (bearing, clamp).
 
+Everything is reported in the scene frame: a body assembled in its own frame and placed by
+a rigid map (:meth:`solvers.elastic_body.ElasticBody.place`) has its residual forces, DOF
+positions and centre mapped to the scene before they are summed.
+
 Moments are N mm here (report N m by dividing by 1000); in 2D the moment is the scalar M_z
 and forces are per unit thickness. Every sum over FE DOFs goes through
 :func:`solvers.elastic_body.mpi_sum`, the one helper that reduces across ranks.
@@ -71,10 +75,12 @@ def residual_resultant(
     rv = r.getArray(readonly=True)[:n]
     x = b.dof_x[:n]
     comp = b.dof_comp[:n]
+    x = b.to_scene(x)
     out = {}
     for key, mask in (("contact", ~b.support_mask), ("support", b.support_mask)):
         f = np.zeros((n, gd))
         f[np.arange(n)[mask], comp[mask]] = rv[mask]
+        f = f @ b.rotation.T  # body-frame nodal forces in the scene frame
         force = mpi_sum(b.comm, f.sum(axis=0))
         moment = mpi_sum(b.comm, _moment(x - c, f))
         out[key] = (force, moment)
@@ -85,7 +91,7 @@ def _centre(problem: ContactProblem, body: str, centre) -> np.ndarray:
     if centre is not None:
         return np.asarray(centre, float)[: problem.gdim]
     if body in problem.bodies:
-        return problem.bodies[body].centre
+        return problem.bodies[body].scene_centre
     return np.zeros(problem.gdim)
 
 
@@ -123,13 +129,23 @@ def line_load(problem: ContactProblem, result: ContactResult, pair: int = 0) -> 
 
 
 def write_vtx(folder: str | Path, problem: ContactProblem, result: ContactResult) -> list[Path]:
-    """Displacement of every body (rigid part included) as VTX: ``folder/<body>.bp``."""
+    """Displacement of every body (rigid part included) as VTX, ``folder/<body>.bp``, in the
+    scene frame: each body's mesh and field are placed for the write and put back after."""
     folder = Path(folder)
     paths = []
     for name, b in problem.bodies.items():
         fn = b.function(result.displacements[name], name="displacement")
+        gd = b.gdim
+        vals = fn.x.array.reshape(-1, gd)
+        vals[:] = vals @ b.rotation.T
+        x = b.mesh.geometry.x
+        x_body = x.copy()
+        x[:, :gd] = b.to_scene(x_body[:, :gd])
         path = folder / f"{name}.bp"
-        with dolfinx.io.VTXWriter(b.comm, str(path), [fn], engine="BP4") as w:
-            w.write(0.0)
+        try:
+            with dolfinx.io.VTXWriter(b.comm, str(path), [fn], engine="BP4") as w:
+                w.write(0.0)
+        finally:
+            x[:] = x_body
         paths.append(path)
     return paths

@@ -3,7 +3,8 @@ results (collective; the same dict on every rank).
 
 The data flow of the pipeline in one function: the scene the case file names is built from
 its gear set at the sun angle ``roll`` (:func:`meshing.scenes.build_scene`), the body meshes
-are loaded and placed (:func:`meshing.placed_meshes.load_scene_bodies`), the contact model is
+are loaded in their own frames (:func:`meshing.scene_bodies.load_body_meshes`), the contact
+model is
 built and solved (:mod:`solvers.gear_train`), and the result is reduced to what the gear
 train carries (:mod:`postprocess.train_results`), the paper's quantities of each branch
 (:mod:`postprocess.paper_moments`) and the FE root stress (:mod:`solvers.root_stress`).
@@ -12,14 +13,17 @@ train carries (:mod:`postprocess.train_results`), the paper's quantities of each
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
 from meshing import sizing
-from meshing.placed_meshes import load_scene_bodies
+from meshing.scene_bodies import load_body_meshes
 from meshing.scenes import build_scene
 from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
+from solvers.body_store import BodyStore
 from solvers.gear_train import build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
@@ -32,17 +36,25 @@ def solve_position(
     *,
     level: int | None = None,
     degree: int | None = None,
-    vtx_dir=None,
+    keep_fields: bool = False,
+    progress: Callable[[str], None] | None = None,
     spacing: float | None = None,
     width: float | None = None,
     penalty_factor: float | None = None,
     micro=None,
     scene_options: dict | None = None,
-) -> dict:
+    store: BodyStore | None = None,
+) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
-    (``model.level``, ``numerics``); ``vtx_dir``: also write every body's displacement as
-    VTX there (``<body>.bp``); ``scene_options``: passed to the scene builder (e.g.
-    ``pinion_radial_offset`` in mm, ``phase_offsets``; :func:`meshing.scenes.planetary_scene`)."""
+    (``model.level``, ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
+    where ``write_fields(folder)`` writes every body's displacement as VTX
+    (``<folder>/<body>.bp``, collective), so the caller can save the result first and the
+    fields after it; ``progress``: called with the name of each stage as it starts
+    (``scene``, ``meshes``, ``model``, ``solve``, ``post``); ``scene_options``: passed to the
+    scene builder (e.g. ``pinion_radial_offset`` in mm, ``phase_offsets``;
+    :func:`meshing.scenes.planetary_scene`);
+    ``store``: bodies and meshes kept from earlier positions and cases (default: none kept)."""
+    store = BodyStore() if store is None else store
     num = study.numerics
     level = study.model.level if level is None else level
     degree = num.degree if degree is None else degree
@@ -52,16 +64,20 @@ def solve_position(
         spacing = sizing.check_level(level).fine
     penalty = num.penalty_factor if penalty_factor is None else penalty_factor
     t0 = time.perf_counter()
+    _stage(progress, "scene")
     scene = build_scene(study.model.scene, study.gearset, roll, **(scene_options or {}))
     t_scene = time.perf_counter()
-    meshes = load_scene_bodies(scene, level, comm)
+    _stage(progress, "meshes")
+    meshes = load_body_meshes(scene, level, comm, store.mesh_memo)
     t_meshes = time.perf_counter()
+    _stage(progress, "model")
     model = build_gear_train(scene, meshes, study, degree=degree, spacing=spacing,
-                             penalty_factor=penalty, width=width, micro=micro)  # fmt: skip
+                             penalty_factor=penalty, width=width, micro=micro,
+                             store=store)  # fmt: skip
+    _stage(progress, "solve")
     result = model.problem.solve()
     t_solve = time.perf_counter()
-    if vtx_dir is not None:
-        write_vtx(vtx_dir, model.problem, result)
+    _stage(progress, "post")
     train = train_results(model, result)
     out = {**train, **paper_moments(train, scene, study.gearset)}
     out["bending_stress"] = root_stress(model, result)
@@ -86,4 +102,16 @@ def solve_position(
     )
     out["grid_lines"] = {k: v[1].lines for k, v in model.grids.items()}
     out["g0_max_abs_mm"] = float(max(np.abs(v[0].gap0).max() for v in model.grids.values()))
+    if keep_fields:
+        problem = model.problem
+
+        def write_fields(folder: Path) -> list[Path]:
+            return write_vtx(folder, problem, result)
+
+        return out, write_fields
     return out
+
+
+def _stage(progress: Callable[[str], None] | None, name: str) -> None:
+    if progress is not None:
+        progress(name)

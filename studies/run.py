@@ -1,30 +1,45 @@
 """One study driver for any case file: mesh positions -> summary, contact patterns, pictures.
 
     python -m studies.run 1-GA [1-GB ...] [--level L] [--positions N] [--out results]
+        [--scene system] [--no-reuse] [--quiet] [--traceback]
     python -m studies.run path/to/my_case.toml
     mpiexec -n 2 python -m studies.run 1-GA
 
 A case is a study-case file (``cases/<name>.toml`` or any path): a gear set, the pinion
 bearing, the material, the scene (``model.scene``) and the numerical settings. It is solved
 at N mesh positions over one base pitch of the sun: sun angles k (2 pi / Z_sun) / N, k = 0..
-N-1, with the carrier fixed (:func:`studies.position.solve_position`). Each position is
+N-1, with the carrier fixed (:func:`studies.position.solve_position`). The bodies are
+factorized once and reused by every position and every case of the command line that shares
+their mesh, degree and material (:class:`solvers.body_store.BodyStore`; ``--no-reuse``
+factorizes at every position). Each position is
 written to ``<out>/<case>/positions/<k>.json`` as soon as it is solved, and reused by a later
 run only if it was solved from the same inputs (hash of the resolved case and gear set), the
 same settings and the same code (:mod:`studies.provenance`); the run says which positions it
-reused and which it computed. A study that fails part way keeps what it finished. The
+reused and which it solved. A study that fails part way keeps what it finished. The
 displacement of every body at the first position is written as VTX to
-``<out>/<case>/fields/<body>.bp`` (ParaView). ``summary.json`` (:mod:`postprocess.summary`)
-holds the means over the positions, the per-position values, the closed-form reference, the
-contact and root stresses, and the inputs and provenance that produced them.
+``<out>/<case>/fields/<body>.bp`` (ParaView), after the position file: a failed field write
+is a warning, never a lost position. ``summary.json`` (:mod:`postprocess.summary`) holds the
+means over the positions, the per-position values, the closed-form reference, the contact
+and root stresses, plausibility ``warnings`` (:mod:`studies.plausibility`), and the inputs
+and provenance that produced them; it is not written when no position finished.
 
-Exit status: 0 all cases finished, 1 a case failed while solving (finished positions kept),
-2 a case file is invalid (the message names the file and the field).
+Under MPI every rank runs the same steps; a failure on any rank is shared with all of them
+(:mod:`studies.ranks`), so a job never hangs on one rank's error.
+
+Exit status (:mod:`studies.cli`): 0 every case finished; 1 a position failed while solving
+(finished positions kept); 2 invalid input (case file, gear set, option; the message names
+the file, field or option); 3 a result file or folder could not be written or read; 4 MPI
+ranks out of step, job aborted; 5 an unexpected error (rerun with --traceback). With several
+cases, the largest code of any case.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
+import os
+import shutil
 import sys
 import time
 import traceback
@@ -32,15 +47,44 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from cases.gearset import CaseError
-from cases.study_case import StudyCase, inputs_hash, load_study_case, study_inputs
+from cases.study_case import (
+    MAX_POSITIONS,
+    SCENES,
+    StudyCase,
+    inputs_hash,
+    load_study_case,
+    study_inputs,
+)
+from meshing import sizing
+from meshing.cache import CacheDirError, cache_dir
 from meshing.scenes import build_scene
 from postprocess.contact_pattern import draw_contact_patterns
+from postprocess.flank_pictures import draw_flank_patterns
 from postprocess.loaded_scene import loaded_scene_picture
+from postprocess.paper_moments import MEAN_KEYS
 from postprocess.summary import summarise
+from solvers.body_store import BodyStore
+from studies.cli import (
+    EXIT_INTERNAL,
+    EXIT_INTERRUPTED,
+    EXIT_INVALID_INPUT,
+    EXIT_OK,
+    INPUT_ERRORS,
+    InputError,
+    StudyFailed,
+    exit_code,
+    one_line,
+)
 from studies.files import ResultFileError, on_root, read_json, write_json
+from studies.plausibility import plausibility_warnings
 from studies.position import solve_position
+from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
+from studies.ranks import Ranks
+
+# What a finished position file must hold to be reused (beyond the paper's scalars of its
+# gear-set kind, postprocess.paper_moments.MEAN_KEYS): what postprocess.summary reads.
+POSITION_KEYS = ("roll", "meshes", "pinions", "timings", "dofs", "reuse_key")
 
 
 def roll_angles(study: StudyCase, positions: int) -> list[float]:
@@ -55,17 +99,72 @@ def reuse_key(study: StudyCase, level: int, degree: int, roll: float) -> dict:
             "degree": degree, "roll": roll}  # fmt: skip
 
 
-def _finished(path: Path, key: dict) -> dict | None:
+def _finished(path: Path, key: dict, study: StudyCase, progress: Progress) -> dict | None:
     """The position in ``path`` if it was solved with ``key``; None if absent or stale. An
-    unreadable file is reported and solved again."""
+    unreadable or incomplete file is reported and solved again."""
     if not path.is_file():
         return None
     try:
         old = read_json(path)
     except ResultFileError as exc:
-        print(f"warning: {exc}; solving the position again", file=sys.stderr)
+        progress.warn(f"{exc}; solving the position again")
         return None
-    return old if old.get("reuse_key") == key else None
+    if not isinstance(old, dict):
+        progress.warn(f"{path}: not a position record (a JSON object); solving it again")
+        return None
+    if old.get("reuse_key") != key:
+        return None
+    missing = [k for k in (*POSITION_KEYS, *MEAN_KEYS[study.gearset.kind]) if k not in old]
+    if missing:
+        progress.warn(f"{path}: incomplete, lacks {', '.join(missing)}; solving it again")
+        return None
+    return old
+
+
+def _checked_settings(study: StudyCase, level, positions) -> tuple[int, int]:
+    """The level and number of positions of the run (the case file's unless given), checked:
+    :class:`~studies.cli.InputError` names the option and what is allowed."""
+    level = study.model.level if level is None else level
+    n_pos = study.model.positions if positions is None else positions
+    try:
+        sizing.check_level(level)
+    except ValueError as exc:
+        raise InputError(f"{study.name}: {exc} (option --level)") from exc
+    if isinstance(n_pos, bool) or not isinstance(n_pos, int) or not 1 <= n_pos <= MAX_POSITIONS:
+        raise InputError(
+            f"{study.name}: --positions {n_pos!r}: must be an integer from 1 to "
+            f"{MAX_POSITIONS} (mesh positions over one base pitch)"
+        )
+    return level, n_pos
+
+
+def _output_folder(study: StudyCase, out_root: Path) -> Path:
+    """``<out_root>/<case name>``, refused unless the name makes a folder inside ``out_root``
+    (the case loader already refuses such names; this guards the driver). The path is
+    normalised as written, not resolved: a results folder that is a symlink stays allowed."""
+    root = Path(os.path.abspath(out_root))
+    out = Path(os.path.normpath(root / study.name))
+    if out == root or not out.is_relative_to(root):
+        raise InputError(
+            f"{study.name}: case name {study.name!r} would write outside the output folder "
+            f"{out_root} (--out); a name is letters, digits and _ . + -"
+        )
+    return Path(out_root) / study.name
+
+
+def _make_folders(out_root: Path, out: Path) -> None:
+    for d in (out_root, out, out / "positions"):
+        if d.exists() and not d.is_dir():
+            raise ResultFileError(f"{d} is a file, not a folder (results folder --out {out_root})")
+    (out / "positions").mkdir(parents=True, exist_ok=True)
+
+
+def _check_mesh_cache() -> None:
+    """The mesh cache folder is usable (made if needed), before any position is solved."""
+    try:
+        cache_dir()
+    except CacheDirError as exc:
+        raise ResultFileError(str(exc)) from exc
 
 
 def run_study(
@@ -74,44 +173,127 @@ def run_study(
     level: int | None = None,
     positions: int | None = None,
     comm: MPI.Comm = MPI.COMM_WORLD,
+    progress: Progress | None = None,
+    ranks: Ranks | None = None,
+    store: BodyStore | None = None,
+    scene: str | None = None,
 ) -> dict:
     """Solve every position (reusing finished ones), then write summary.json and the pictures.
-    Returns the summary (on every rank). Raises after writing what finished if a position
-    failed."""
+    Returns the summary (on every rank). Raises :class:`~studies.cli.StudyFailed` after
+    writing what finished if a position failed, the input errors of
+    :data:`~studies.cli.INPUT_ERRORS` before anything is solved, and
+    :class:`~studies.files.ResultFileError` when a result cannot be written (every rank
+    raises the same error). ``ranks``: the failure agreement of ``comm`` (made here if not
+    given; it is collective to make, so a caller running several studies makes it once).
+    ``store``: the bodies kept across positions and cases (factorized once; default: kept
+    for this study's positions); ``scene``: solve in this scene instead of the case's
+    ``model.scene`` (recorded in the summary's inputs)."""
+    progress = Progress(comm) if progress is None else progress
     study = load_study_case(name_or_path)
-    level = study.model.level if level is None else level
-    n_pos = study.model.positions if positions is None else positions
-    if isinstance(n_pos, bool) or not isinstance(n_pos, int) or n_pos < 1:
-        raise CaseError(f"{study.name}: positions = {n_pos!r}: must be an integer >= 1")
+    if scene is not None:
+        if scene not in SCENES:
+            raise InputError(f"scene = {scene!r}: must be one of {', '.join(SCENES)}")
+        study = dataclasses.replace(study, model=dataclasses.replace(study.model, scene=scene))
+    store = BodyStore() if store is None else store
+    level, n_pos = _checked_settings(study, level, positions)
+    out = _output_folder(study, out_root)
+    try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
+        build_scene(study.model.scene, study.gearset, 0.0)
+    except INPUT_ERRORS as exc:
+        raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
+    own = ranks is None
+    ranks = Ranks(comm) if own else ranks
+    try:
+        return _run(study, Path(out_root), out, level, n_pos, comm, progress, ranks, store)
+    finally:
+        if own:
+            ranks.free()
+
+
+def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progress, ranks, store):
     degree = study.numerics.degree
-    out = out_root / study.name
     pos_dir = out / "positions"
-    on_root(comm, lambda: pos_dir.mkdir(parents=True, exist_ok=True), f"creating {pos_dir}")
+    on_root(comm, lambda: _make_folders(out_root, out), f"creating {pos_dir}")
+    on_root(comm, _check_mesh_cache, "mesh cache")
     t0 = time.perf_counter()
-    solved, failed, reused = [], [], []
-    for k, roll in enumerate(roll_angles(study, n_pos)):
-        path = pos_dir / f"{k}.json"
-        key = reuse_key(study, level, degree, roll)
-        pos = on_root(comm, lambda path=path, key=key: _finished(path, key), f"reading {path}")
+    rolls = roll_angles(study, n_pos)
+    keys = [reuse_key(study, level, degree, roll) for roll in rolls]
+
+    def read_finished():
+        return [
+            _finished(pos_dir / f"{k}.json", key, study, progress) for k, key in enumerate(keys)
+        ]
+
+    old = on_root(comm, read_finished, f"reading the finished positions in {pos_dir}")
+    reused = [k for k, p in enumerate(old) if p is not None]
+    to_solve = [k for k in range(n_pos) if k not in reused]
+    progress.info(
+        f"{study.name}: {n_pos} position{'s' * (n_pos > 1)} at level {level}, P{degree}, "
+        f"{comm.size} rank{'s' * (comm.size > 1)} -> {out}"
+    )
+    if reused:
+        progress.info(
+            f"{study.name}: reusing position{'s' * (len(reused) > 1)} "
+            f"{_numbers(reused)} (solved earlier from the same inputs, settings and code); "
+            + (f"solving {_numbers(to_solve)}" if to_solve else "nothing to solve")
+        )
+    clock = LoopClock(n_pos, len(to_solve))
+    fields = out / "fields"
+    solved, failed = [], []
+    for k, roll in enumerate(rolls):
+        tag = f"{study.name} position {k + 1}/{n_pos}"
+        pos = old[k]
         if pos is not None:
             pos["reused"] = True
-            reused.append(k)
-        else:
-            try:
-                vtx = out / "fields" if k == 0 else None  # displacement fields: first position
-                pos = solve_position(study, roll, comm, level=level, vtx_dir=vtx)
-            except Exception as exc:  # keep going: finished positions stay on disk
-                failed.append({"position": k, "roll": roll, "error": repr(exc)})
-                if comm.rank == 0:
-                    traceback.print_exc()
-                continue
-            pos["reuse_key"] = key
-            on_root(comm, lambda path=path, pos=pos: write_json(path, pos), f"writing {path}")
+            solved.append(pos)
+            clock.step()
+            wall = pos["timings"].get("wall", float("nan"))
+            progress.info(
+                f"{tag}: reused (solved earlier in {wall:.1f} s): "
+                f"{_headline(study, pos)}  {clock.status()}"
+            )
+            if k == 0 and not on_root(comm, fields.is_dir, f"reading {fields}"):
+                progress.info(
+                    f"{study.name}: no displacement fields in {fields} (not written by the "
+                    "run that solved position 1); delete positions/0.json to solve it again "
+                    "and write them"
+                )
+            continue
+        if k == 0:  # the fields of other inputs must not stand beside these results
+            on_root(comm, lambda: _remove(fields), f"removing the old {fields}")
+        line = progress.position(tag)
+        failure, write_fields = None, None
+        try:
+            got = solve_position(study, roll, comm, level=level, keep_fields=k == 0,
+                                 progress=line, store=store)  # fmt: skip
+            pos, write_fields = got if k == 0 else (got, None)
+        except Exception as exc:  # shared with every rank below; finished positions stay
+            failure = (one_line(exc), traceback.format_exc())
+        errors = ranks.agree(failure, tag)
+        seconds = line.close(failed=bool(errors))
+        clock.step(seconds)
+        if errors:
+            message = _rank_messages(errors, comm.size)
+            failed.append(
+                {"position": k, "roll": roll, "error": message, "traceback": errors[0][1][1]}
+            )
+            progress.warn(f"{tag} failed: {message}")
+            continue
+        pos["reuse_key"] = keys[k]
+        path = pos_dir / f"{k}.json"
+        on_root(comm, lambda path=path, pos=pos: write_json(path, pos), f"writing {path}")
         solved.append(pos)
-        if comm.rank == 0:
-            what = "reused" if pos.get("reused") else f"{pos['timings']['wall']:.1f} s"
-            print(f"{study.name}: position {k + 1}/{n_pos} (roll {roll:.5f} rad) "
-                  f"{_headline(study, pos)}, {what}", flush=True)  # fmt: skip
+        progress.info(
+            f"{tag}: {_headline(study, pos)}, solved in {pos['timings']['wall']:.1f} s"
+            f"  {clock.status()}"
+        )
+        if write_fields is not None:
+            _write_fields(write_fields, fields, study, comm, ranks, progress)
+    if not solved:
+        raise StudyFailed(
+            f"{study.name}: {n_pos} of {n_pos} positions failed ({_distinct(failed)}); "
+            f"summary.json not written (an earlier one in {out} is left as it was)"
+        )
     meta = {
         "level": level,
         "degree": degree,
@@ -124,11 +306,75 @@ def run_study(
         "wall_time_s": time.perf_counter() - t0,
     }
     summary = summarise(study, solved, failed, meta)
-    on_root(comm, lambda: _write_outputs(study, solved, summary, out, level),
-            f"writing the results of {study.name} to {out}")  # fmt: skip
+    summary["warnings"] = plausibility_warnings(study, summary)
+    for w in summary["warnings"]:
+        progress.warn(w)
+    on_root(
+        comm, lambda: write_json(out / "summary.json", summary), f"writing {out / 'summary.json'}"
+    )
+    _pictures(study, solved, out, level, comm, progress)
     if failed:
-        raise RuntimeError(f"{study.name}: {len(failed)} of {n_pos} positions failed: {failed}")
+        raise StudyFailed(
+            f"{study.name}: {len(failed)} of {n_pos} positions failed ({_distinct(failed)}); "
+            f"the {len(solved)} finished are in {out / 'summary.json'}"
+        )
+    progress.info(
+        f"{study.name}: done, {len(solved) - len(reused)} solved, {len(reused)} reused, in "
+        f"{time.perf_counter() - t0:.1f} s -> {out / 'summary.json'}"
+    )
     return summary
+
+
+def _numbers(ks: list[int]) -> str:
+    """Position numbers as a person counts them (1-based)."""
+    return ", ".join(str(k + 1) for k in ks)
+
+
+def _rank_messages(errors: list, size: int) -> str:
+    """The failure messages of the ranks that failed (one message when they agree)."""
+    texts = [f[0] for _, f in errors]
+    if size == 1 or len(set(texts)) == 1:
+        return texts[0]
+    return "; ".join(f"rank {r}: {f[0]}" for r, f in errors)
+
+
+def _distinct(failed: list[dict]) -> str:
+    """The distinct errors of the failed positions, each once, with the positions."""
+    by: dict[str, list[int]] = {}
+    for f in failed:
+        by.setdefault(f["error"], []).append(f["position"])
+    return "; ".join(f"position {_numbers(ks)}: {e}" for e, ks in by.items())
+
+
+def _remove(folder: Path) -> None:
+    if folder.is_dir():
+        shutil.rmtree(folder)
+
+
+def _write_fields(write_fields, fields: Path, study, comm, ranks: Ranks, progress: Progress):
+    """The VTX fields, written into ``fields.partial`` and renamed to ``fields`` once
+    complete. Called after the position file is on disk: a failure is a warning."""
+    partial = fields.with_name(fields.name + ".partial")
+    try:
+        on_root(comm, lambda: _remove(partial), f"removing {partial}")
+        failure = None
+        try:
+            write_fields(partial)
+        except Exception as exc:
+            failure = one_line(exc)
+        errors = ranks.agree(failure, f"writing the displacement fields to {partial}")
+        if errors:
+            raise ResultFileError(_rank_messages([(r, (m,)) for r, m in errors], comm.size))
+        on_root(comm, lambda: partial.rename(fields), f"renaming {partial} to {fields}")
+    except ResultFileError as exc:
+        progress.warn(
+            f"{study.name}: displacement fields not written ({exc}); the solved position is "
+            "kept; delete positions/0.json and run again to write them"
+        )
+        try:
+            on_root(comm, lambda: shutil.rmtree(partial, ignore_errors=True), "cleaning up")
+        except ResultFileError:
+            pass
 
 
 def _headline(study: StudyCase, pos: dict) -> str:
@@ -138,37 +384,126 @@ def _headline(study: StudyCase, pos: dict) -> str:
             f"ZS {pos['ZS']:+.2f}, ZR {pos['ZR']:+.2f} mm")  # fmt: skip
 
 
-def _write_outputs(study: StudyCase, solved: list[dict], summary: dict, out: Path, level: int):
-    write_json(out / "summary.json", summary)
-    if solved:
+def _pictures(study: StudyCase, solved: list[dict], out: Path, level: int, comm, progress):
+    """Contact patterns and the loaded scene (rank 0). A picture that cannot be drawn is a
+    warning: the numbers are in summary.json already."""
+
+    def patterns():
         draw_contact_patterns(study, solved, out)
+
+    def flank_patterns():
+        draw_flank_patterns(study, solved, out)
+
+    def scene():
         first = solved[0]
-        scene = build_scene(study.model.scene, study.gearset, first["roll"])
+        sc = build_scene(study.model.scene, study.gearset, first["roll"])
         title = f"{study.name}: loaded scene, roll {first['roll']:.4f} rad"
-        loaded_scene_picture(scene, first, level, out / "loaded_scene.png", title)
+        loaded_scene_picture(sc, first, level, out / "loaded_scene.png", title)
 
-
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m studies.run", description=__doc__.splitlines()[0])
-    ap.add_argument("cases", nargs="+", help="case names (cases/<name>.toml) or case file paths")
-    ap.add_argument("--level", type=int, default=None, help="mesh level (default: the case's)")
-    ap.add_argument("--positions", type=int, default=None, help="positions per base pitch")
-    ap.add_argument("--out", type=Path, default=Path("results"))
-    args = ap.parse_args(argv)
-    comm = MPI.COMM_WORLD
-    status = 0
-    for name in args.cases:  # a failed case does not stop the others
+    drawings = ((patterns, "contact pattern charts"), (flank_patterns, "flank contact patterns"),
+                (scene, "loaded scene picture"))  # fmt: skip
+    for draw, what in drawings:
         try:
-            run_study(name, args.out, args.level, args.positions, comm)
-        except CaseError as exc:
-            if comm.rank == 0:
-                print(f"error: {exc}", file=sys.stderr)
-            status = max(status, 2)
-        except Exception as exc:
-            if comm.rank == 0:
-                print(f"error: {exc}", file=sys.stderr)
-            status = max(status, 1)
+            on_root(comm, draw, f"drawing the {what} of {study.name}")
+        except ResultFileError as exc:
+            progress.warn(f"{exc}; summary.json is written")
+
+
+class _Parser(argparse.ArgumentParser):
+    """Usage errors on one line from rank 0, exit code 2 (invalid input)."""
+
+    def error(self, message):
+        if MPI.COMM_WORLD.rank == 0:
+            self.print_usage(sys.stderr)
+            sys.stderr.write(f"error: {message}\n")
+        sys.exit(EXIT_INVALID_INPUT)
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    ap = _Parser(
+        prog="python -m studies.run",
+        description=__doc__.splitlines()[0],
+        epilog="exit status: 0 ok, 1 a position failed (finished ones kept), 2 invalid input, "
+        "3 a result file could not be written or read, 4 MPI ranks out of step (aborted), "
+        "5 unexpected error",
+    )
+    ap.add_argument("cases", nargs="+", help="case names (cases/<name>.toml) or case file paths")
+    ap.add_argument(
+        "--level",
+        type=int,
+        default=None,
+        help=f"mesh level 0-{len(sizing.LEVELS) - 1} (default: the case's)",
+    )
+    ap.add_argument(
+        "--positions",
+        type=int,
+        default=None,
+        help=f"positions per base pitch, 1-{MAX_POSITIONS} (default: the case's)",
+    )
+    ap.add_argument("--out", type=Path, default=Path("results"), help="results folder")
+    ap.add_argument("--scene", choices=SCENES, default=None,
+                    help="solve in this scene instead of the case's model.scene")  # fmt: skip
+    ap.add_argument("--no-reuse", action="store_true",
+                    help="factorize every body at every position")  # fmt: skip
+    ap.add_argument("--quiet", action="store_true", help="only warnings and errors (for CI)")
+    ap.add_argument(
+        "--traceback",
+        action="store_true",
+        help="print Python tracebacks of errors (for a bug report)",
+    )
+    return ap.parse_args(argv)
+
+
+def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
+    args = parse_args(argv)
+    progress = Progress(comm, quiet=args.quiet)
+    ranks = Ranks(comm)
+    store = BodyStore(reuse=not args.no_reuse)  # bodies factorized once for all cases
+    status = EXIT_OK
+    try:
+        for name in args.cases:  # a failed case does not stop the others
+            status = max(status, run_case(name, args, comm, progress, ranks, store))
+            if status == EXIT_INTERRUPTED:
+                break
+    finally:
+        ranks.free()
     return status
+
+
+def run_case(name: str, args: argparse.Namespace, comm, progress: Progress, ranks: Ranks,
+             store: BodyStore | None = None) -> int:  # fmt: skip
+    """One case of the command line: its exit code, with its error printed on one line
+    (every rank agrees on the outcome first, so none goes on alone)."""
+    failure = None
+    try:
+        run_study(name, args.out, args.level, args.positions, comm, progress, ranks, store,
+                  args.scene)  # fmt: skip
+    except KeyboardInterrupt:
+        progress.error(f"{name}: interrupted; finished positions are kept")
+        return EXIT_INTERRUPTED
+    except Exception as exc:
+        code = exit_code(exc)
+        text = _with_path(one_line(exc), name)
+        if code == EXIT_INTERNAL:
+            text += " (an unexpected error: rerun with --traceback and report it)"
+        failure = (code, text, traceback.format_exc())
+    errors = ranks.agree(failure, f"case {name}")
+    if not errors:
+        return EXIT_OK
+    if args.traceback and failure is not None:
+        sys.stderr.write(f"[rank {comm.rank}] {failure[2]}")
+    _, text, _ = dict(errors).get(0, errors[0][1])  # rank 0's message if it has one
+    progress.error(text)
+    return max(f[0] for _, f in errors)
+
+
+def _with_path(text: str, name: str) -> str:
+    """The case loader names a file by its name (``my_case.toml: ...``); the path the user
+    gave is clearer when the case is not in cases/."""
+    base = Path(name).name
+    if name.endswith(".toml") and name != base and text.startswith(f"{base}: "):
+        return f"{name}: {text[len(base) + 2 :]}"
+    return text
 
 
 if __name__ == "__main__":

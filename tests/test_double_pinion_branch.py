@@ -8,6 +8,7 @@ import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
 
+import numpy as np
 import pytest
 from mpi4py import MPI
 
@@ -29,13 +30,25 @@ def gb():
     return solve_position(load_study_case("2B-GB"), 0.0, MPI.COMM_WORLD, level=0)
 
 
+def carrier_torque_Nm(r: dict) -> float:
+    """Torque about the scene axis the carrier exerts on SP and RP through their bearings
+    (N m): minus the moment of the contact force on each pinion (``<p>_force_N`` in its frame,
+    turned to the scene frame) at its centre."""
+    total = 0.0
+    for pn in ("SP", "RP"):
+        c = np.asarray(r["centres_mm"][pn])
+        f = np.asarray(r["frames"][pn]).T @ np.asarray(r[f"{pn}_force_N"])
+        total -= float(c[0] * f[1] - c[1] * f[0]) / 1e3
+    return total
+
+
 @pytest.mark.parametrize("name", ["ga", "gb"])
 def test_torque_balance_and_ratio(name, request):
-    """Sun torque = applied; pinions free to spin; ring / sun = Z_ring / Z_sun (carrier held,
-    frictionless involutes: the ratio is exact up to the small-rotation linearization)."""
+    """Pinions free to spin; ring / sun = Z_ring / Z_sun (carrier held, frictionless
+    involutes: the ratio is exact up to the small-rotation linearization); the carrier
+    carries T_sun (Z_ring / Z_sun - 1). (The sun torque balance holds by construction: the
+    sun rotation is a rigid unknown with its moment equation; not tested.)"""
     r = request.getfixturevalue(name)
-    assert r["sun_torque_applied_Nm"] == pytest.approx(T_BRANCH, rel=1e-12)
-    assert -r["sun_contact_torque_Nm"] == pytest.approx(T_BRANCH, rel=1e-3)
     for pn in ("SP", "RP"):
         # spin moment: rigid-unknown equation solved exactly; round-off of N mm sums
         assert abs(r[f"{pn}_spin_moment_Nm"]) < 1e-6 * T_BRANCH
@@ -44,6 +57,11 @@ def test_torque_balance_and_ratio(name, request):
     assert ratio == pytest.approx(Z_RING / Z_SUN, rel=5e-3)
     assert r["ring_support_torque_Nm"] == pytest.approx(-r["ring_contact_torque_Nm"], rel=1e-9)
     assert r["resultant_mismatch_rel"] < 1e-9
+    # Carrier reaction of a double-pinion planetary with the carrier held: T_sun + T_ring +
+    # T_c = 0 with the ring turning with the sun, so T_c = T_sun (Z_ring / Z_sun - 1), on the
+    # sun's side. It needs both pinions' reported bearing forces, frames and centres to be
+    # right; the model imposes none of it. Measured to round-off (3e-16); bound as the ratio.
+    assert carrier_torque_Nm(r) == pytest.approx(T_BRANCH * (Z_RING / Z_SUN - 1), rel=5e-3)
 
 
 @pytest.mark.parametrize("name", ["ga", "gb"])
@@ -74,10 +92,6 @@ def test_bearing_moments_vs_table5(ga):
         assert ga[f"Mx_{pn}"] == pytest.approx(sh[f"Mx_{pn}"], rel=0.05)
         for c in ("Mx", "My"):
             assert ga[f"{c}_{pn}"] == pytest.approx(t5[f"{c}_{pn}"], rel=0.08)
-        # the bearing carries the contact moment (springs k q)
-        mb = ga[f"{pn}_bearing_spring_moment_Nm"]
-        assert mb[0] == pytest.approx(ga[f"Mx_{pn}"], rel=1e-6)
-        assert mb[1] == pytest.approx(ga[f"My_{pn}"], rel=1e-6)
     for key in ("M_LOA_SP_SUN", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_RING"):
         assert ga[key] == pytest.approx(t5[key], rel=0.08)
     # the paper's printed values (rounded to 1 N m; 2 N m covers the rounding of FA)

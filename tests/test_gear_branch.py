@@ -96,11 +96,21 @@ def gc():
     return solve_position(load_study_case("1-GC"), 0.0, MPI.COMM_SELF, level=0, degree=1)
 
 
+def carrier_torque_Nm(pos: dict) -> float:
+    """Torque about the scene axis that the carrier exerts on the pinion through its bearing
+    (N m): minus the moment of the contact force on the pinion, F = Q^T pinion_force_N in the
+    scene frame, applied at the pinion centre c. (The contact moment about c has no axial
+    part: the spin is free.)"""
+    c = np.asarray(pos["pinion_centre_mm"])
+    f = np.asarray(pos["frame"]).T @ np.asarray(pos["pinion_force_N"])
+    return -float(c[0] * f[1] - c[1] * f[0]) / 1e3
+
+
 def test_torque_balance_and_ratio(ga):
     """(b) Statics of the frictionless, carrier-fixed branch."""
-    # the sun rotation is an explicit unknown balanced exactly (eq. (3) of solvers.contact):
-    # only round-off is left, 0.1 % is the brief's bound
-    assert -ga["sun_contact_torque_Nm"] == pytest.approx(T_BRANCH, rel=1e-3)
+    # (The sun torque balance and the spring moment = contact moment hold by construction:
+    # the sun rotation is a rigid unknown with its moment equation, the bearing is the only
+    # support of the pinion. They are not tested here.)
     # zero-moment spin equation: round-off against the ~1e3 N m scale of the mesh moments
     assert abs(ga["pinion_spin_moment_Nm"]) < 1e-6 * abs(ga["My_pin"])
     # frictionless involutes, carrier fixed: equal normal forces at both meshes (spin
@@ -119,10 +129,13 @@ def test_torque_balance_and_ratio(ga):
     assert fs[0] > 0 and fs[1] < 0 and fs[2] > 0
     assert fr[0] < 0 and fr[1] < 0 and fr[2] < 0
     assert fs[2] == pytest.approx(ga["analytic"]["FzS"], rel=1e-9)
-    # the moment the springs carry (k q) is the contact moment on the pinion
-    assert np.allclose(
-        ga["bearing_spring_moment_Nm"][:2], [ga["Mx_pin"], ga["My_pin"]], rtol=1e-9, atol=1e-9
-    )
+    # The carrier reaction: the torque of the bearing force about the scene axis is the
+    # textbook carrier torque of a simple planetary with the carrier held, T_c = -T_sun (1 +
+    # Z_ring / Z_sun) (T_sun : T_ring : T_c = 1 : Zr/Zs : -(1 + Zr/Zs)). Nothing in the model
+    # imposes it: it needs the reported bearing force, its frame and the pinion centre to be
+    # right (a frame or centre error is O(1)). Measured to round-off (1e-15: the contact
+    # normals are the exact plane-of-action normals); bound as the torque ratio, 0.5 %.
+    assert carrier_torque_Nm(ga) == pytest.approx(-T_BRANCH * (1 + 86 / 35), rel=5e-3)
 
 
 def _pitch_offset_bound(res):
@@ -166,9 +179,9 @@ def test_bearing_softness_ordering(ga, gc):
     assert gc["My_pin"] < ga["My_pin"]
     assert abs(gc["M_LOA_sun"]) < abs(ga["M_LOA_sun"])
     assert abs(gc["M_LOA_ring"]) < abs(ga["M_LOA_ring"])
-    # the statics hold for any bearing
-    assert -gc["sun_contact_torque_Nm"] == pytest.approx(T_BRANCH, rel=1e-3)
+    # the statics hold for any bearing: ring and carrier reactions (see above)
     assert gc["ring_support_torque_Nm"] / T_BRANCH == pytest.approx(86 / 35, rel=5e-3)
+    assert carrier_torque_Nm(gc) == pytest.approx(-T_BRANCH * (1 + 86 / 35), rel=5e-3)
 
 
 KEYS = ("Mx_pin", "My_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring", "ring_support_torque_Nm")
@@ -214,22 +227,23 @@ def test_branch_parallel_equals_serial():
 def test_root_stress_at_loaded_fillets(ga):
     """FE root stress (solvers.root_stress) against ISO 6336-3 method B nominal stress.
 
-    Tension exists at the fillets of the loaded teeth of every gear, and it sits on the
-    fillet under the loaded (drive) flank: sun pos, pinion pos at the sun mesh and neg at
-    the ring mesh, ring pos (meshing.scenes: sun pos drives pinion pos, pinion neg drives
-    ring pos). The external gears are within a factor 2 of ISO's nominal sigma_F0 (all K
-    factors 1, Y_beta of the 2006 form). Why this is loose: ISO is a nominal 30 deg tangent
+    The tension sits on the fillet under the loaded (drive) flank: sun pos, pinion pos at
+    the sun mesh and neg at the ring mesh, ring pos (meshing.scenes: sun pos drives pinion
+    pos, pinion neg drives ring pos). The external gears are at 0.6-0.9 of ISO's nominal
+    sigma_F0 (all K factors 1, Y_beta of the 2006 form). ISO is a nominal 30 deg tangent
     section stress of a cantilever loaded at the outer point of single pair contact of the
-    virtual spur gear, with Y_beta for the load sharing along the helical contact lines;
-    the FE value is the largest P1 cell (midpoint) stress over the fillet cells at level 0
+    virtual spur gear, with Y_beta for the load sharing along the helical contact lines; the
+    FE value is the largest P1 cell (midpoint) stress over the fillet cells at level 0
     (about 3 elements across the fillet), which averages the steep surface gradient and
-    underestimates the peak, and its load distribution is the FE one (tooth pairs sharing,
-    lines clipped by the face width). Measured at roll 0: FE / ISO = 0.76 (sun), 0.73
-    (pinion, sun side), 0.70 (pinion, ring side); ring 335 MPa (no ISO value: internal).
+    underestimates the peak (FE below ISO). Measured at roll 0: FE / ISO = 0.76 (sun), 0.73
+    (pinion, sun side), 0.70 (pinion, ring side); over the positions at level 1 0.71-0.80
+    (README). The band is the measured spread with about 0.1 either side, narrow enough that
+    a 35 % bias of either value leaves it (0.70 x 1.35 = 0.95, 0.76 / 1.35 = 0.56).
+    The ring (internal, no ISO value here) has thicker teeth at the root than the pinion it
+    meshes with, under the same mesh force: its root stress is lower (measured 335 MPa
+    against 480 MPa).
     """
     bs = ga["bending_stress"]
-    for key in ("sun", "pinion_sun_side", "pinion_ring_side", "ring"):
-        assert bs[key] > 0, key
     sides = {"sun": "pos", "pinion_sun_side": "pos", "pinion_ring_side": "neg", "ring": "pos"}
     for key, side in sides.items():
         loc = bs["locations"][key]
@@ -237,4 +251,5 @@ def test_root_stress_at_loaded_fillets(ga):
         assert loc["tooth"] in loc["teeth"] and abs(loc["z_mm"]) <= 14.5 + 1e-9
     iso = iso_nominal_root_stress(load_study_case("1-GA").gearset)
     for key in ("sun", "pinion_sun_side", "pinion_ring_side"):
-        assert 0.5 < bs[key] / iso[key] < 2.0, (key, bs[key], iso[key])
+        assert 0.6 < bs[key] / iso[key] < 0.9, (key, bs[key], iso[key])
+    assert bs["ring"] < bs["pinion_ring_side"]

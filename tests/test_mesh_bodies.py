@@ -282,8 +282,8 @@ def carrier():
 def test_carrier_groups_volume_quality(carrier):
     spec, _, meta, nodes = carrier
     n_pins = len(spec.pin_angles)
-    expected = {T.CARRIER, T.carrier_surface(T.PLATE_ZPOS), T.carrier_surface(T.PLATE_ZNEG)}
-    expected |= {T.pin(k) for k in range(n_pins)} | {T.carrier_surface(T.OTHER)}
+    expected = {T.CARRIER} | {T.carrier_surface(k) for k in T.CARRIER_KINDS}
+    expected |= {T.pin(k) for k in range(n_pins)}
     assert set(nodes) == expected and all(len(v) for v in nodes.values())
     z_in, _ = spec.plate_z
     r_o, r_i, t = spec.plate_outer_radius, spec.plate_inner_radius, spec.plate_thickness

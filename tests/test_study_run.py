@@ -1,6 +1,7 @@
 """The study driver: positions over one base pitch, summary contract, pictures, restart keyed
 by the inputs, partial failure (a study that fails part way keeps what it finished)."""
 
+import io
 import json
 import math
 import shutil
@@ -9,15 +10,21 @@ from pathlib import Path
 import pytest
 
 from cases.study_case import load_study_case
+from gears.contact_stress import iso6336_pitch_contact_stress
+from gears.units import n_mm
 from studies import run as study_run
+from studies.progress import Progress
 
 N_POS = 2
+# what the module's study printed on stderr (warnings), filled by the fixture
+STDERR = io.StringIO()
 
 
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     out = tmp_path_factory.mktemp("results")
-    summary = study_run.run_study("1-GA", out, level=0, positions=N_POS)
+    progress = Progress(out=io.StringIO(), err=STDERR)
+    summary = study_run.run_study("1-GA", out, level=0, positions=N_POS, progress=progress)
     return out, summary
 
 
@@ -33,31 +40,50 @@ def test_summary_contract(study):
     out, summary = study
     on_disk = json.loads((out / "1-GA" / "summary.json").read_text())
     assert on_disk == json.loads(json.dumps(summary))
+    # The summary is made of the position files this run wrote, in roll order: its records
+    # and means are checked against the files on disk (an independent copy), so a summary of
+    # stale, reordered or other positions fails here.
+    files = [json.loads((out / "1-GA" / "positions" / f"{k}.json").read_text())
+             for k in range(N_POS)]  # fmt: skip
+    rolls = study_run.roll_angles(load_study_case("1-GA"), N_POS)
+    assert [f["roll"] for f in files] == [p["roll"] for p in summary["positions"]] == rolls
     for key in ("Mx_pin", "My_pin", "Mz_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring"):
-        values = [p[key] for p in summary["positions"]]
-        # the top level holds the mean over the positions (same numbers, float round-off)
-        assert summary[key] == pytest.approx(sum(values) / N_POS, rel=1e-12, abs=1e-12)
+        assert summary[key] == pytest.approx(sum(f[key] for f in files) / N_POS, rel=1e-12)
+    for key in ("sun", "pinion_sun_side", "pinion_ring_side", "ring"):
+        mean = sum(f["bending_stress"][key] for f in files) / N_POS
+        assert summary["bending_stress"][key] == pytest.approx(mean, rel=1e-12)
     assert set(summary["contact_stress"]) == {"sun_pinion", "pinion_ring"}
     assert set(summary["bending_stress_iso6336_nominal"]) == {
         "sun", "pinion_sun_side", "pinion_ring_side", "ring"}  # fmt: skip
-    for key in ("sun", "pinion_sun_side", "pinion_ring_side", "ring"):
-        values = [p["bending_stress"][key] for p in summary["positions"]]
-        assert summary["bending_stress"][key] == pytest.approx(sum(values) / N_POS, rel=1e-12)
-        assert summary["bending_stress"][key] > 0
-    assert summary["level"] == 0 and summary["dofs"] > 0 and summary["failed_positions"] == []
+    assert summary["level"] == 0 and summary["dofs"] == files[0]["dofs"]
+    assert summary["failed_positions"] == [] and summary["warnings"] == []
+    # A picture that cannot be drawn, a field write that fails or an implausible stress is a
+    # warning on stderr, not an error: none here.
+    assert STDERR.getvalue() == ""
     # displacement fields of the first position for ParaView, one VTX folder per body
     assert sorted(p.name for p in (out / "1-GA" / "fields").iterdir()) == [
         "pinion.bp", "ring.bp", "sun.bp"]  # fmt: skip
     for name in ("contact_pattern_sun-pinion.png", "contact_pattern_pinion-ring.png",
                  "contact_patterns.png", "loaded_scene.png"):  # fmt: skip
-        assert (out / "1-GA" / name).stat().st_size > 10_000
+        assert (out / "1-GA" / name).is_file()
 
 
 def test_physics_of_the_rigid_bearing_case(study):
     _, s = study
-    # Hertz peak stress above the mean over loaded points (a distribution, not one value)
-    for mesh in ("sun_pinion", "pinion_ring"):
-        assert s["contact_stress"][mesh] > s["contact_stress_mean_loaded"][mesh] > 0
+    # Contact stress against an independent value: ISO 6336-2 sigma_H0 at the pitch point
+    # with Z_beta = 1, which is the Hertz stress under the mean line load (the mesh force
+    # over the mean total contact line length), from the torque and the gear data alone.
+    # With a rigid bearing the load is nearly uniform, so the FE mean over the loaded points
+    # is close: it differs by the spread of sqrt(w / rho) along the path of contact and the
+    # unloaded points left out (measured +2 % sun mesh, +13 % ring mesh at level 0).
+    # [0.9, 1.3] catches a 35 % bias either way.
+    gs = load_study_case("1-GA").gearset
+    torque = n_mm(gs.torque_per_branch)  # on the sun; the pinion drives the ring with Zp / Zs
+    pinion_torque = torque * gs.gears["pinion"].teeth / gs.gears["sun"].teeth
+    for mesh, (a, b), t in (("sun_pinion", ("sun", "pinion"), torque),
+                            ("pinion_ring", ("pinion", "ring"), pinion_torque)):  # fmt: skip
+        iso = iso6336_pitch_contact_stress(gs.pair(a, b), t, z_beta=False)["sigma_H0"]
+        assert 0.9 < s["contact_stress_mean_loaded"][mesh] / iso < 1.3, mesh
     # Rigid bearing: a nearly centred pattern (singh2007 section 7), |Z| < 1/10 face width.
     assert abs(s["ZS"]) < 2.9 and abs(s["ZR"]) < 2.9
     # My_pin within 2 % of Table 7 at the FE's own ZS, ZR (see tests/test_gear_branch.py for
@@ -128,6 +154,7 @@ def test_case1_report(study):
     out, summary = study
     text = write_report(out).read_text()
     assert f"| 1-GA | 0 | {N_POS} | {summary['dofs']} |" in text
-    assert "My_pin" in text and "Rigid bearing" in text
-    for name in ("moments_vs_tilt.png", "offsets_vs_tilt.png"):
-        assert (out / "case1" / name).stat().st_size > 10_000
+    assert "Rigid bearing" in text
+    # the report quotes this run's numbers beside the closed form's
+    at_z = summary["analytic"]["at_fe_ZS_ZR"]["My_pin"]
+    assert f"| My_pin | {summary['My_pin']:.1f} | {at_z:.1f} |" in text

@@ -1,0 +1,69 @@
+"""Exit codes and one-line messages of the entry points (documented in README.md, "Exit codes
+and messages").
+
+Every failure a user can cause or meet ends in one line ``error: ...`` that names the file,
+field or option and what is allowed, and in an exit code by kind. A Python traceback is
+printed only with ``--traceback`` (for a bug report); position failures keep theirs in
+``summary.json`` (``failed_positions``).
+"""
+
+from __future__ import annotations
+
+from cases.gearset import CaseError
+from gears.spec import GeometryError
+from meshing.cache import CacheDirError
+from meshing.sizing import MeshingError
+from studies.files import ResultFileError
+from studies.ranks import EXIT_RANKS_OUT_OF_STEP
+
+EXIT_OK = 0
+#: a mesh position failed while solving; finished positions are kept (summary.json lists the
+#: failed ones; it is not written when no position finished)
+EXIT_POSITION_FAILED = 1
+#: invalid input: a case file, a gear set, a command-line option; nothing was solved
+EXIT_INVALID_INPUT = 2
+#: a result or cache file or folder could not be written or read (full disk, permissions,
+#: a file where a folder should be)
+EXIT_FILES = 3
+#: MPI ranks out of step: one rank failed while the others waited in a collective call; the
+#: job was aborted (:mod:`studies.ranks`); finished positions are kept
+EXIT_RANKS = EXIT_RANKS_OUT_OF_STEP
+#: an unexpected error (a bug): rerun with --traceback and report it
+EXIT_INTERNAL = 5
+#: interrupted (Ctrl-C)
+EXIT_INTERRUPTED = 130
+
+
+class InputError(ValueError):
+    """A command-line option or a combination of inputs is invalid (the message names the
+    option and what is allowed)."""
+
+
+class StudyFailed(RuntimeError):
+    """Mesh positions failed while solving; finished positions are kept on disk."""
+
+
+INPUT_ERRORS = (CaseError, GeometryError, MeshingError, InputError)
+FILE_ERRORS = (ResultFileError, CacheDirError, OSError)
+
+
+def exit_code(exc: BaseException) -> int:
+    """The exit code of a failure (see the module constants)."""
+    if isinstance(exc, KeyboardInterrupt):
+        return EXIT_INTERRUPTED
+    if isinstance(exc, StudyFailed):
+        return EXIT_POSITION_FAILED
+    if isinstance(exc, INPUT_ERRORS):
+        return EXIT_INVALID_INPUT
+    if isinstance(exc, FILE_ERRORS):
+        return EXIT_FILES
+    return EXIT_INTERNAL
+
+
+def one_line(exc: BaseException) -> str:
+    """The message of ``exc`` on one line; errors the pipeline raises for the user are their
+    message alone, anything else is prefixed by its type (``ZeroDivisionError: ...``)."""
+    text = " ".join(str(exc).split()) or "(no message)"
+    if isinstance(exc, (*INPUT_ERRORS, ResultFileError, CacheDirError, StudyFailed)):
+        return text
+    return f"{type(exc).__name__}: {text}"

@@ -1,0 +1,89 @@
+"""Physical plausibility of a study's results: numbers no gear could carry get a warning in
+``summary.json`` (``warnings``) and on stderr instead of being reported silently.
+
+The model is linear elastic with small displacements: its root stress grows in proportion
+to the load and its Hertz stress with the square root, whatever the load, so a torque in
+the wrong unit or a slip of the exponent (1e9 N m instead of 1e3) still gives numbers, e.g.
+a contact stress of 5e6 MPa. The bounds below mark where the linear elastic model of a steel
+gear is far outside its range; they are not design limits.
+
+* Hertz contact stress 5000 MPa, on the mean over the loaded grid points of a mesh (the load
+  level along the contact lines). Case-hardened gear steels have an endurance limit
+  sigma_Hlim of 1300-1650 MPa (ISO 6336-5) and a static limit about 1.6 times that (life
+  factor Z_NT), about 2600 MPa; subsurface yield in line contact starts at
+  p_max = 1.67 sigma_y (Tresca), 3300 MPa even for a 2000 MPa case. Above 5000 MPa the flank
+  has yielded deep under the surface. The bound is not applied to the peak, which sits at
+  the unrelieved line ends (tip and face corners) where the line-contact formula overstates
+  the stress: the paper's own flexible-bearing case 1-GC reaches a 5800 MPa peak there at
+  level 0 with a mean of 2650 MPa. A gear material stiffer than steel (``material.
+  gear_modulus_factor``, e.g. 1-GB-R) is checked at the steel-equivalent stress: Hertz
+  stress at equal line load scales with sqrt(E*), so the value is divided by
+  sqrt(E_gear / E_steel) (1-GB-R: 8400 MPa, 2650 MPa steel-equivalent).
+* Root (fillet) stress 3000 MPa, on the largest value over the positions. The tooth-root
+  endurance limit of case-hardened steels is sigma_FE = 850-1050 MPa (ISO 6336-5) and the
+  static limit about 2.5 times that (Y_NT), 2100-2600 MPa, near the tensile strength of the
+  case: above 3000 MPa the tooth has broken. 1-GC reaches 1700 MPa at level 0. Root stress
+  at equal loads does not depend on E, so the bound is the same for any gear material.
+"""
+
+from __future__ import annotations
+
+import math
+
+from gears.material import STEEL
+
+CONTACT_STRESS_LIMIT_MPA = 5000.0
+ROOT_STRESS_LIMIT_MPA = 3000.0
+
+
+def steel_equivalent_factor(study) -> float:
+    """sqrt(E_steel / E_gear): turns the Hertz stress of the study's gear material into the
+    stress the same line load gives on steel flanks (1 for steel)."""
+    return math.sqrt(STEEL.youngs_modulus / study.material.gear_youngs_modulus)
+
+
+def _severity(v: float) -> float:
+    return math.inf if math.isnan(v) else v
+
+
+def _worst(records: list[dict], key: str) -> dict[str, tuple[float, int]]:
+    """Per entry of ``rec[key]`` (a mesh or a fillet): the largest value over the positions
+    and its position index (a value that is not a number counts as the largest)."""
+    worst: dict[str, tuple[float, int]] = {}
+    for k, rec in enumerate(records):
+        for name, v in (rec.get(key) or {}).items():
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                continue
+            if name not in worst or _severity(float(v)) > _severity(worst[name][0]):
+                worst[name] = (float(v), k)
+    return worst
+
+
+def plausibility_warnings(study, summary: dict) -> list[str]:
+    """Warnings for ``summary`` (:func:`postprocess.summary.summarise`): contact and root
+    stresses beyond their bounds, and top-level quantities that are not finite numbers."""
+    out: list[str] = []
+    records = summary.get("positions") or []
+    factor = steel_equivalent_factor(study)
+    for mesh, (p, k) in _worst(records, "contact_stress_mean_loaded").items():
+        if not math.isfinite(p) or p * factor > CONTACT_STRESS_LIMIT_MPA:
+            steel = f" ({p * factor:.4g} MPa steel-equivalent)" if factor != 1.0 else ""
+            out.append(
+                f"{study.name}: Hertz contact stress {p:.4g} MPa{steel} (mean over the loaded "
+                f"points of the {mesh} mesh, position {k + 1}) is beyond "
+                f"{CONTACT_STRESS_LIMIT_MPA:.0f} MPa, far above what a steel flank carries: "
+                "the linear elastic model is outside its range; check input_torque (N m on "
+                "the sun, all branches) in the gear set"
+            )
+    for key, (s, k) in _worst(records, "bending_stress").items():
+        if not math.isfinite(s) or s > ROOT_STRESS_LIMIT_MPA:
+            out.append(
+                f"{study.name}: root stress {s:.4g} MPa ({key}, position {k + 1}) is beyond "
+                f"{ROOT_STRESS_LIMIT_MPA:.0f} MPa, above the strength of any gear steel: the "
+                "linear elastic model is outside its range; check input_torque (N m on the "
+                "sun, all branches) and the face widths in the gear set"
+            )
+    for key, value in summary.items():
+        if isinstance(value, float) and not math.isfinite(value):
+            out.append(f"{study.name}: {key} = {value} is not a finite number")
+    return out
