@@ -40,8 +40,8 @@ def vtk_warnings_off():
 
 def surface_polydata(msh_path: Path):
     """All named surface triangles of ``msh_path`` as one pyvista PolyData with cell
-    arrays ``body`` (index into the returned body list) and ``fine`` (1 on flanks and
-    fillets of active teeth)."""
+    arrays ``body`` (index into the returned body list), ``tooth`` (1 on tooth surfaces)
+    and ``pin`` (1 on the carrier's pin surfaces, drawn apart from its plates and posts)."""
     import pyvista as pv
 
     with gmsh_util.session("picture") as gm:
@@ -51,7 +51,8 @@ def surface_polydata(msh_path: Path):
         order = np.argsort(node_tags)
         sorted_tags = np.asarray(node_tags)[order]
         coords = coords[order]
-        tris, body_idx, kinds = [], [], []
+        tris, body_idx, kinds, pins = [], [], [], []
+        pin_names = {T.pin(k) for k in range(64)}
         bodies: list[str] = []
         for dim, ptag in gm.model.getPhysicalGroups(2):
             name = gm.model.getPhysicalName(dim, ptag)
@@ -67,12 +68,17 @@ def surface_polydata(msh_path: Path):
                     tris.append(tri)
                     body_idx.append(np.full(len(tri), bodies.index(p.body)))
                     kinds.append(np.full(len(tri), 1 if p.tooth is not None else 0))
+                    pins.append(np.full(len(tri), 1 if name in pin_names else 0))
     tri = np.vstack(tris)
     faces = np.hstack([np.full((len(tri), 1), 3), tri]).ravel()
     poly = pv.PolyData(coords, faces)
     poly.cell_data["body"] = np.concatenate(body_idx)
     poly.cell_data["tooth"] = np.concatenate(kinds)
+    poly.cell_data["pin"] = np.concatenate(pins)
     return poly, bodies
+
+
+PIN_COLOUR = "#3b3b3b"  # carrier pins: dark, apart from the plates and posts
 
 
 def scene_picture(

@@ -9,7 +9,13 @@ from pathlib import Path
 import numpy as np
 
 from meshing.build import scene_mesh_file
-from meshing.pictures import BODY_COLOURS, save_screenshot, surface_polydata, vtk_warnings_off
+from meshing.pictures import (
+    BODY_COLOURS,
+    PIN_COLOUR,
+    save_screenshot,
+    surface_polydata,
+    vtk_warnings_off,
+)
 
 
 def loaded_scene_picture(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
@@ -35,12 +41,18 @@ def _draw(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
     for col, view in enumerate(("iso", "xy")):
         plotter.subplot(0, col)
         for i, body in enumerate(bodies):
-            part = poly.extract_cells(np.flatnonzero(poly.cell_data["body"] == i))
+            cells = (poly.cell_data["body"] == i) & (poly.cell_data["pin"] == 0)
+            part = poly.extract_cells(np.flatnonzero(cells))
             colour = BODY_COLOURS[i % len(BODY_COLOURS)]
             plotter.add_mesh(part, color=colour, opacity=0.35, label=body)
+        pins = np.flatnonzero(poly.cell_data["pin"] == 1)
+        if pins.size:  # the carrier's pins, apart from its plates and posts
+            plotter.add_mesh(poly.extract_cells(pins), color=PIN_COLOUR, opacity=0.9,
+                             label="carrier pins")  # fmt: skip
         plotter.add_mesh(
             cloud, scalars="line load (N/mm)", cmap="inferno_r", point_size=9,
             render_points_as_spheres=True, clim=(0.0, max(float(w.max()), 1.0)),
+            scalar_bar_args={"position_x": 0.2, "width": 0.6, "fmt": "%.0f"},
         )  # fmt: skip
         if view == "xy":
             plotter.view_xy()

@@ -109,10 +109,30 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
                 "scaling the bearing by 1/10: the cases coincide.",
             ]
         lines += [
-            f"System scene: largest relative difference {rel(a, b):.2f}. The carrier and pins "
-            "stay steel, so stiffer gears make the carrier's compliance (its wind-up tilting the "
-            "pins) count for more: singh2007's reason for case 1-GB-R.",
+            f"System scene: My_pin differs by {100 * (a['My_pin'] / b['My_pin'] - 1):+.1f} %, "
+            f"Mx_pin by {a['Mx_pin'] - b['Mx_pin']:+.1f} N m, ZS by {a['ZS'] - b['ZS']:+.2f} mm "
+            f"and ZR by {a['ZR'] - b['ZR']:+.2f} mm. The carrier and pins stay steel, so stiffer "
+            "gears make the carrier's compliance (its wind-up tilting the pins) count for more: "
+            "singh2007's reason for case 1-GB-R.",
         ]
+    pin = system_dir / "pin_errors.json"
+    if pin.is_file():
+        res = json.loads(pin.read_text())
+        lines += ["", f"## Load sharing under a pin-hole error ({res['case']}, level "
+                  f"{res['level']}, one position)", "",
+                  f"The pin of pinion 1 displaced {res['direction']}ly in the carrier "
+                  "(`python -m studies.pin_errors`; the other pins exact):", "",
+                  "| sun support (N/mm) | error (um) | K_gamma | load shares |",
+                  "|---|---|---|---|"]  # fmt: skip
+        for r in res["rows"]:
+            shares = ", ".join(f"{s:.4f}" for s in r["load_shares"])
+            k = r.get("sun_radial_stiffness", 0.0)
+            sun = "floating" if k == 0 else f"{k:.3g}"
+            lines.append(f"| {sun} | {r['error_um']:g} | {r['K_gamma']:.4f} | {shares} |")
+        lines += ["", "A floating sun balanced by three mesh forces shares the load by statics "
+                  "alone: a pin error moves the sun, not the shares. A radially supported sun "
+                  "cannot follow, and the error loads its pinion."]  # fmt: skip
+        lines += ["", "![K_gamma against the pin-hole error](pin_errors.png)"]
     lines += ["", "## Pictures", ""]
     for name in system:
         lines.append(f"- {name}: ![{name} loaded system]({name}/loaded_scene.png)")

@@ -6,10 +6,16 @@ material, supports) serves them all. Bearing springs act on rigid unknowns outsi
 (:mod:`solvers.contact`), so cases that differ only in bearing stiffness share the bodies
 too. ``BodyStore(reuse=False)`` builds every body afresh (the reference the reuse is tested
 against).
+
+Memory: a factorization is the largest object of a run (a level-1 system scene holds about
+9 GB of them), so the store keeps at most as many objects as the previous position used:
+when a case brings new bodies (another gear modulus), each new one replaces the least
+recently used object the current position does not need, instead of piling up beside it.
 """
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Callable, Hashable
 
 
@@ -19,10 +25,32 @@ class BodyStore:
 
     def __init__(self, reuse: bool = True):
         self.reuse = reuse
-        self._bodies: dict[Hashable, object] = {}
+        self._bodies: OrderedDict[Hashable, object] = OrderedDict()  # least recent first
         self._meshes: dict = {}
+        self._previous: set[Hashable] = set()
+        self._current: set[Hashable] = set()
         self.built = 0
         self.reused = 0
+        self.evicted = 0
+
+    def __len__(self) -> int:
+        """The number of objects held."""
+        return len(self._bodies)
+
+    def begin_position(self) -> None:
+        """Start a new mesh position: the objects the last one used set the store's size."""
+        if self._current:
+            self._previous = self._current
+        self._current = set()
+
+    def _evict_for_new(self) -> None:
+        limit = max(len(self._previous), 1)
+        while len(self._bodies) >= limit:
+            old = next((k for k in self._bodies if k not in self._current), None)
+            if old is None:
+                return
+            del self._bodies[old]
+            self.evicted += 1
 
     @property
     def mesh_memo(self) -> dict | None:
@@ -32,9 +60,13 @@ class BodyStore:
     def keep(self, key: Hashable, make: Callable[[], object]):
         """The object stored under ``key``, made by ``make()`` the first time (every time
         without reuse)."""
+        self._current.add(key)
         if self.reuse and key in self._bodies:
             self.reused += 1
+            self._bodies.move_to_end(key)
             return self._bodies[key]
+        if self.reuse:
+            self._evict_for_new()
         obj = make()
         self.built += 1
         if self.reuse:

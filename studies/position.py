@@ -55,6 +55,7 @@ def solve_position(
     :func:`meshing.scenes.planetary_scene`);
     ``store``: bodies and meshes kept from earlier positions and cases (default: none kept)."""
     store = BodyStore() if store is None else store
+    store.begin_position()
     num = study.numerics
     level = study.model.level if level is None else level
     degree = num.degree if degree is None else degree

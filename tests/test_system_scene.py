@@ -107,3 +107,22 @@ def test_system_scene_parallel_equals_serial():
         assert par[k] == pytest.approx(ser[k], rel=1e-6, abs=1e-6 * scale), k
     assert np.allclose(par["sun_centre_displacement_mm"], ser["sun_centre_displacement_mm"],
                        rtol=1e-6, atol=1e-9)  # fmt: skip
+
+
+def test_store_replaces_bodies_of_another_material_instead_of_adding_them():
+    """A store that has seen one position of three bodies keeps three: a case with another
+    gear modulus replaces them one by one (least recently used first), never holds six."""
+    store = BodyStore()
+    made = []
+
+    def maker(tag):
+        return lambda: made.append(tag) or tag
+
+    for material in ("steel", "steel", "10x"):
+        store.begin_position()
+        for body in ("sun", "pinion", "ring"):
+            assert store.keep((body, material), maker((body, material))) == (body, material)
+            assert len(store) <= 3
+    assert made == [("sun", "steel"), ("pinion", "steel"), ("ring", "steel"),
+                    ("sun", "10x"), ("pinion", "10x"), ("ring", "10x")]  # fmt: skip
+    assert store.evicted == 3 and store.reused == 3
