@@ -25,9 +25,20 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 	    command -v "$$p"; exit 0; fi; done; exit 1
 
 .PHONY: all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
-	distclean help case1 case1-system case2 $(CASE1) $(CASE2) study bench-case1 bench-study
+	distclean help case1 case1-system case2 $(CASE1) $(CASE2) study bench-case1 bench-study \
+	report start-clock
 
-all: setup analytic meshes case1 ## set up and run the main study
+# The main study, one step after the other; the first stamps the start time, the last (the
+# recipe) writes results/report.md with the wall time of the whole run (results/bench/make_all.json).
+all: start-clock setup analytic meshes case1 case2 ## set up and run the main study: results/report.md
+	@$(MAKE) --no-print-directory report STARTED=$(RESULTS)/bench/.make_start
+
+start-clock:
+	@mkdir -p $(RESULTS)/bench && date +%s.%N > $(RESULTS)/bench/.make_start
+
+# The one-page report of everything under results/ (links every case report and picture).
+report: $(STAMP) ## the whole study on one page: results/report.md
+	$(PY) -m studies.paper_report --results $(RESULTS) $(if $(STARTED),--started $(STARTED))
 
 help: ## list the targets
 	@grep -E '^[a-zA-Z0-9_-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-14s %s\n", $$1, $$2}'
@@ -71,11 +82,14 @@ case1: $(STAMP) ## the four case-1 FE cases and their report: results/case1/repo
 case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/case1-system/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --scene system \
 	  --out $(RESULTS)/case1-system $(STUDY_FLAGS)
+	$(PY) -m studies.pin_errors 1-GB --errors 0 10 25 50 --out $(RESULTS)/case1-system
 	$(PY) -m studies.system_report --branch $(RESULTS) --system $(RESULTS)/case1-system \
 	  --cases $(CASE1) --pair 1-GB-R 1-GC
 
-case2: $(STAMP) ## the case-2 FE cases (double pinion): results/2B-*/
+# --single: the single-pinion cases the pattern shift is compared with (same bearing).
+case2: $(STAMP) ## the case-2 FE cases (double pinion) and their report: results/case2/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(STUDY_FLAGS)
+	$(PY) -m studies.case2_report --results $(RESULTS) --cases $(CASE2) --single $(CASE1)
 
 bench-study: $(STAMP) ## reuse and MPI speed-ups of the study: results/bench/study.json
 	$(PY) -m studies.bench_study --out $(RESULTS)/bench --level 1
@@ -94,6 +108,18 @@ bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/
 bench-case1: $(STAMP) ## case 1 speed against error (1-GB): results/bench/case1_speed_error.{json,png}
 	$(PY) -m studies.bench_case1 --out $(RESULTS)/bench --case 1-GB --levels 0 1 2 \
 	  --degrees 1 --extra 0:2
+
+# The radial mesh stiffness of the case-1 meshes from the FE (pust2016), level 0 (about 1 min).
+.PHONY: radial-stiffness phasing
+radial-stiffness: $(STAMP) ## FE radial mesh stiffness, floating-sun threshold: results/radial_stiffness/
+	$(PY) -m studies.radial_stiffness --case 1-GB --level 0 --out $(RESULTS)/radial_stiffness
+
+# Planet phasing (parker2000): 3 equally spaced planets, and 4 at 0/91.4/180/271.4 deg (snapped
+# to the assemblable 91.43, 271.43), all-planet scene, 12 positions over one mesh cycle, level 0
+# (about 15 min on 2 cores).
+phasing: $(STAMP) ## planet phasing, all-planet FE over one mesh cycle: results/phasing/
+	$(PY) -m studies.phasing --case parker2000-3 --case parker2000-4 0 91.4 180 271.4 \
+	  --positions 12 --level 0 --out $(RESULTS)/phasing
 
 lint: $(STAMP) ## ruff
 	$(VENV)/bin/ruff check $(PACKAGES) tests

@@ -5,6 +5,16 @@ pressure and helix angle, hands, face widths, centre distances, torque. Profile 
 resolved from the centre distances along the power path (sun -> ... -> ring) by
 :func:`gears.pair.assign_chain_shifts`.
 
+Backlash and microgeometry, both optional. ``[[meshes]] normal_backlash_um`` is the mesh's
+normal backlash (um; default :func:`gears.pair.default_normal_backlash`, the ISO/TR 10064-2
+minimum for the centre distance and module, 89.1 um for case 1), made by tooth thickness
+allowances along the power path (:func:`gears.pair.assign_chain_backlash`): the gears (and
+their meshes) get thinner teeth, the drive flanks stay in contact and the centre distances
+as given. ``[gears.X.modifications]`` holds the flank modifications of gear X
+(:class:`gears.microgeometry.FlankModifications`: lead crown, lead slope, tip relief, end
+relief), kept in :attr:`GearSet.modifications`, outside the gears: they are contact gaps,
+not mesh geometry.
+
 Every error names the file and the field (``case1.toml: gears.sun.teeth = 0: ...``); every
 table refuses keys it does not know. Beyond the single gears and meshes (checked by
 :mod:`gears`), the set must be buildable: a single-pinion set meshes the pinion with sun and
@@ -22,7 +32,14 @@ from pathlib import Path
 from typing import Any
 
 from gears.analytic.planetary import PlanetaryInput
-from gears.pair import GearPair, assign_chain_shifts
+from gears.microgeometry import FIELDS as MODIFICATION_FIELDS
+from gears.microgeometry import FlankModifications
+from gears.pair import (
+    GearPair,
+    assign_chain_backlash,
+    assign_chain_shifts,
+    default_normal_backlash,
+)
 from gears.spec import GearSpec, GeometryError
 
 GEARSET_DIR = Path(__file__).parent / "gearsets"
@@ -48,11 +65,15 @@ _GEAR_FIELDS = (
     "dedendum_coef",
     "hob_tip_radius_coef",
     "shaper_teeth",
+    "modifications",
 )
 _COMMON_FIELDS = tuple(
-    f for f in _GEAR_FIELDS if f not in {"teeth", "hand", "face_width", "internal"}
+    f for f in _GEAR_FIELDS if f not in {"teeth", "hand", "face_width", "internal", "modifications"}
 )
-_MESH_FIELDS = ("gears", "centre_distance")
+_MESH_FIELDS = ("gears", "centre_distance", "normal_backlash_um")
+UM = 1e-3  # mm per um
+#: largest normal backlash a gear-set file may ask for (um)
+MAX_BACKLASH_UM = 1000.0
 
 
 class CaseError(ValueError):
@@ -66,6 +87,7 @@ class GearMeshSpec:
     gear1: str
     gear2: str
     centre_distance: float  # mm
+    normal_backlash: float = 0.0  # mm, as resolved (the file's or the default)
 
 
 @dataclass(frozen=True)
@@ -79,6 +101,8 @@ class GearSet:
     meshes: tuple[GearMeshSpec, ...]  # one per step of the power path, in order
     path: str = field(default="", compare=False)  # the file read ("" if parsed from a mapping)
     source: dict = field(default_factory=dict, compare=False, repr=False)  # its TOML mapping
+    # flank modifications per gear (gears without any are left out)
+    modifications: dict[str, FlankModifications] = field(default_factory=dict)
 
     @property
     def torque_per_branch(self) -> float:
@@ -199,9 +223,13 @@ def parse_gearset(
     raw_gears = data.get("gears")
     _require(isinstance(raw_gears, dict) and raw_gears, source, "gears: at least one [gears.X]")
     gears: dict[str, GearSpec] = {}
+    modifications: dict[str, FlankModifications] = {}
     for gname, g in raw_gears.items():
         where = f"{source}: gears.{gname}"
         check_keys(g, _GEAR_FIELDS, source, f"gears.{gname}")
+        g = dict(g)
+        if "modifications" in g:
+            modifications[gname] = _modifications(g.pop("modifications"), source, gname)
         try:
             gears[gname] = GearSpec(name=gname, **{**common, **g})
         except TypeError as exc:  # a required field is missing
@@ -259,19 +287,57 @@ def parse_gearset(
             where,
             f"gears = {m.get('gears')!r}: must be {[a, b]!r} (the power path, in order)",
         )
-        meshes.append(GearMeshSpec(a, b, _number(m, "centre_distance", where)))
+        a_w = _number(m, "centre_distance", where)
+        if "normal_backlash_um" in m:
+            j_n = _number(m, "normal_backlash_um", where, positive=False)
+            _require(
+                0.0 <= j_n <= MAX_BACKLASH_UM,
+                where,
+                f"normal_backlash_um = {j_n!r}: must be in [0, {MAX_BACKLASH_UM:g}] um",
+            )
+            j_n *= UM
+        else:
+            j_n = default_normal_backlash(a_w, gears[a].normal_module)
+        meshes.append(GearMeshSpec(a, b, a_w, j_n))
     _check_kind_geometry(kind, meshes, source)
 
+    centre_distances = [m.centre_distance for m in meshes]
     try:
-        shifted = assign_chain_shifts(
-            [gears[p] for p in power_path], [m.centre_distance for m in meshes]
-        )
+        shifted = assign_chain_shifts([gears[p] for p in power_path], centre_distances)
     except GeometryError as exc:
         raise CaseError(f"{source}: {exc}") from exc
-    gears.update({g.name: g for g in shifted})
+    try:
+        thinned = assign_chain_backlash(
+            shifted, centre_distances, [m.normal_backlash for m in meshes]
+        )
+    except GeometryError as exc:
+        raise CaseError(
+            f"{source}: meshes: normal_backlash_um = "
+            f"{[round(m.normal_backlash / UM, 6) for m in meshes]}: needs tooth thickness "
+            f"allowances the gears cannot take: {exc}"
+        ) from exc
+    gears.update({g.name: g for g in thinned})
+    for gname, mods in modifications.items():
+        try:
+            mods.check(gears[gname])
+        except GeometryError as exc:
+            raise CaseError(f"{source}: gears.{gname}: {exc}") from exc
+    modifications = {k: v for k, v in modifications.items() if not v.is_zero}
     return GearSet(
-        name, kind, torque, planets, tuple(power_path), gears, tuple(meshes), str(path), data
-    )
+        name, kind, torque, planets, tuple(power_path), gears, tuple(meshes), str(path), data,
+        modifications,
+    )  # fmt: skip
+
+
+def _modifications(table: Any, source: str, gear: str) -> FlankModifications:
+    """``[gears.<gear>.modifications]`` as :class:`FlankModifications` (errors name the file
+    and the field)."""
+    name = f"gears.{gear}.modifications"
+    check_keys(table, MODIFICATION_FIELDS, source, name)
+    try:
+        return FlankModifications(**table)
+    except GeometryError as exc:
+        raise CaseError(f"{source}: gears.{gear}.{exc}") from exc
 
 
 def load_gearset(name_or_path: str | Path) -> GearSet:

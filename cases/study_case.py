@@ -322,6 +322,8 @@ def study_inputs(study: StudyCase) -> dict[str, Any]:
                 {"gears": [m.gear1, m.gear2], "centre_distance": m.centre_distance}
                 for m in gs.meshes
             ],
+            # flank modifications are contact gaps outside the gears: hashed here too
+            "modifications": {n: asdict(m) for n, m in sorted(gs.modifications.items())},
         },
     }
 

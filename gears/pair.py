@@ -1,6 +1,8 @@
 """A gear mesh (:class:`GearPair`): operating geometry, backlash, contact ratios, mesh
-checks (tip interference, undercut against the mate), and the profile shifts that centre
-distances need along a power path (:func:`assign_chain_shifts`).
+checks (tip interference, undercut against the mate), the profile shifts that centre
+distances need along a power path (:func:`assign_chain_shifts`) and the tooth thickness
+allowances that give each mesh of the path its normal backlash (:func:`assign_chain_backlash`,
+default :func:`default_normal_backlash`).
 """
 
 from __future__ import annotations
@@ -149,6 +151,15 @@ class GearPair:
         )
 
     @property
+    def normal_backlash(self) -> float:
+        """Normal backlash j_n = j_wt cos(alpha_wt) cos(beta_b), mm: the distance between the
+        coast flanks along their common normal when the drive flanks touch (involute
+        helicoids of one base cylinder turned by an angle are a uniform normal distance
+        apart). With the shifts of the centre distance, j_n = -(A_sn1 + A_sn2) cos(alpha_n)."""
+        cos_bb = math.cos(self.gear1.base_helix_angle)
+        return self.backlash * math.cos(self.operating_pressure_angle) * cos_bb
+
+    @property
     def path_of_contact_lengths(self) -> tuple[float, float, float]:
         """(start roll length on gear1, end roll length on gear2, length of the path of
         contact), mm. With g = a sin(alpha_wt) and L_ai = sqrt(r_ai^2 - r_bi^2): external
@@ -255,4 +266,69 @@ def assign_chain_shifts(gears: list[GearSpec], centre_distances: list[float]) ->
     out = [gears[0]]
     for gear, a in zip(gears[1:], centre_distances, strict=True):
         out.append(with_required_shift(GearPair(out[-1], gear, a)).gear2)
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# backlash: tooth thickness allowances along the power path
+# --------------------------------------------------------------------------------------
+
+
+#: allowances below this (mm) are round-off of a zero-backlash shift and set to zero
+ALLOWANCE_TOL = 1e-9
+
+
+def default_normal_backlash(centre_distance: float, normal_module: float) -> float:
+    """Normal backlash (mm) a mesh gets when its gear set does not give one: the minimum
+    normal backlash recommended for industrial steel gears in a steel or cast-iron housing
+    (ISO/TR 10064-2:1996, also AGMA 2002 / ANSI-AGMA 915-1), j_bn,min = 2/3 (0.06 + 0.0005
+    a + 0.03 m_n) mm, a and m_n in mm. It allows for thermal expansion, lubricant film and
+    the deviations of an ordinary quality; the allowances of a real gear add their
+    tolerance on top, so this is the tightest backlash a gear engineer would specify.
+    Case 1 (a = 51.945 mm, m_n = 1.59 mm): 89.1 um."""
+    return 2.0 / 3.0 * (0.06 + 0.0005 * centre_distance + 0.03 * normal_module)
+
+
+def assign_chain_backlash(
+    gears: list[GearSpec], centre_distances: list[float], normal_backlash: list[float]
+) -> list[GearSpec]:
+    """Tooth thickness allowances (``thickness_allowance``) along a power path gears[0] ->
+    gears[1] -> ... (sun -> ... -> ring) that give mesh i the normal backlash
+    ``normal_backlash[i]`` (mm, >= 0) at its centre distance, the shifts kept.
+
+    The first gear (sun) takes half of its mesh's allowance and every later gear the rest of
+    the mesh that drives it: A_sn2 = (j_n0 - j_n) / cos(alpha_n), j_n0 the mesh's normal
+    backlash with gear2 at zero allowance (j_n falls by A_sn2 cos(alpha_n), exactly). With
+    equal backlash at every mesh this splits it equally: case 1 (89.1 um at both meshes)
+    gives sun, pinion and ring A_sn = -47.4 um each. Like the shifts, it keeps the drive
+    flanks of every mesh in contact and the centre distances exact; the backlash appears on
+    the coast flanks. A gear whose allowance leaves its valid range raises GeometryError.
+    """
+    n_mesh = len(gears) - 1
+    for what, v in (("centre_distances", centre_distances), ("normal_backlash", normal_backlash)):
+        if len(v) != n_mesh:
+            raise GeometryError(
+                f"{what}: {len(v)} given, must be one per mesh ({n_mesh} for {len(gears)} gears)"
+            )
+    for j in normal_backlash:
+        if not (isinstance(j, numbers.Real) and math.isfinite(j) and j >= 0.0):
+            raise GeometryError(f"normal_backlash = {j!r}: must be a number >= 0 (mm)")
+    cos_an = math.cos(math.radians(gears[0].normal_pressure_angle))
+
+    def allowance(j_from: float, j_to: float, share: float = 1.0) -> float:
+        # a backlash change below ALLOWANCE_TOL is round-off of the shifts' zero backlash: a
+        # zero-backlash set keeps exactly the gears (and meshes) of zero allowance
+        a = share * (j_from - j_to) / cos_an
+        return 0.0 if abs(a) < ALLOWANCE_TOL else a
+
+    first = replace(gears[0], thickness_allowance=0.0)
+    j0 = GearPair(first, replace(gears[1], thickness_allowance=0.0), centre_distances[0])
+    out = [
+        replace(first, thickness_allowance=allowance(j0.normal_backlash, normal_backlash[0], 0.5))
+    ]
+    for gear, a, j in zip(gears[1:], centre_distances, normal_backlash, strict=True):
+        bare = replace(gear, thickness_allowance=0.0)
+        a_sn = allowance(GearPair(out[-1], bare, a).normal_backlash, j)
+        out.append(replace(bare, thickness_allowance=a_sn))
+        GearPair(out[-2], out[-1], a)  # the mesh as it will be built must be valid
     return out

@@ -16,6 +16,16 @@ Conventions
   circles outward, so a positive x_ring - x_pinion increases the internal centre distance
   (the convention of KHK's gear handbook; DIN 3960 and ISO 21771, which give internal gears a
   negative tooth number, count x with the opposite sign).
+* Tooth thickness allowance A_sn (``thickness_allowance``, mm; DIN 3967, ISO 21771): the
+  deviation of the normal tooth thickness at the reference circle from the zero-backlash
+  tooth of shift x, negative for a thinner tooth (internal gears too: a thinner ring tooth,
+  a wider space). It is made as in the shop, by feeding the generating tool in by
+  A_sn / (2 tan(alpha_n)): the generating shift x_E = x + sigma A_sn / (2 m_n tan(alpha_n))
+  (``generating_shift``) sets the flanks, the fillets and the root circle, the nominal x the
+  tip circle. Each flank is the zero-allowance flank turned by A_sn / (z m_n) about the axis
+  (thinner: both flanks turned inwards), so it stays an exact involute helicoid and moves
+  A_sn cos(alpha_n) / 2 along its normal; two mating gears get the normal backlash
+  j_n = -(A_sn1 + A_sn2) cos(alpha_n) at the zero-backlash centre distance.
 
 Symbols (ISO 21771): z teeth, m_n normal module, alpha_n normal pressure angle, beta helix
 angle, m_t = m_n / cos(beta), tan(alpha_t) = tan(alpha_n) / cos(beta), r = z m_t / 2,
@@ -50,6 +60,9 @@ MIN_TIP_THICKNESS = 0.2  # transverse tip thickness / m_n below which a tooth co
 # path of contact) from the base to the tip circle: 9 % for z = 12, x = 0 at 20 deg (allowed),
 # 14 % for z = 10 (refused). Meshes also check that the mate's tip stays above the form circle.
 MAX_UNDERCUT = 0.1
+# Largest |tooth thickness allowance| / m_n: allowances are tens of um to a few tenths of a
+# mm (DIN 3967); beyond 0.25 m_n the change is a profile shift, not a tolerance.
+MAX_THICKNESS_ALLOWANCE = 0.25
 
 
 class GeometryError(ValueError):
@@ -126,6 +139,7 @@ class GearSpec:
     face_width: float  # mm
     internal: bool = False
     profile_shift: float = 0.0  # x, see the module docstring for internal gears
+    thickness_allowance: float = 0.0  # A_sn, mm, normal tooth thickness allowance (<0 thinner)
     addendum_coef: float = 1.0  # h_a* = h_a / m_n
     dedendum_coef: float = 1.25  # h_f* = h_f / m_n, also the generating tool's addendum
     hob_tip_radius_coef: float = 0.38  # rho_a0 / m_n, tool tip rounding (ISO 53 profile A)
@@ -148,6 +162,8 @@ class GearSpec:
         if not isinstance(self.internal, bool):
             self._fail("internal", "must be true or false")
         self._number("profile_shift", -math.inf, math.inf)
+        a_max = MAX_THICKNESS_ALLOWANCE * self.normal_module
+        self._number("thickness_allowance", -a_max, a_max)
         self._number("addendum_coef", 0.0, 2.0, lo_open=True)
         an = math.radians(self.normal_pressure_angle)
         # The generating rack tooth (addendum h_f*, tip rounding rho) must not be pointed.
@@ -235,6 +251,8 @@ class GearSpec:
                 self.dedendum_coef
                 - self.hob_tip_radius_coef * (1.0 - math.sin(an))
                 - self.reference_radius * math.sin(at) ** 2 / m_n
+                + self.profile_shift
+                - self.generating_shift
             )
             self._fail(
                 "profile_shift",
@@ -294,24 +312,38 @@ class GearSpec:
         return self.reference_radius + h
 
     @property
+    def generating_shift(self) -> float:
+        """x_E = x + sigma A_sn / (2 m_n tan(alpha_n)): the shift of the generating tool that
+        cuts the tooth thickness allowance A_sn (= x without allowance)."""
+        if self.thickness_allowance == 0.0:
+            return self.profile_shift
+        tan_an = math.tan(math.radians(self.normal_pressure_angle))
+        return self.profile_shift + self.sigma * self.thickness_allowance / (
+            2.0 * self.normal_module * tan_an
+        )
+
+    @property
     def root_radius(self) -> float:
-        """External r_f = r - (h_f* - x) m_n; internal r + (h_f* + x) m_n, mm."""
-        h = (self.profile_shift - self.sigma * self.dedendum_coef) * self.normal_module
+        """External r_f = r - (h_f* - x_E) m_n; internal r + (h_f* + x_E) m_n, mm (x_E the
+        generating shift: the tool is fed in by the tooth thickness allowance)."""
+        h = (self.generating_shift - self.sigma * self.dedendum_coef) * self.normal_module
         return self.reference_radius + h
 
     def half_angle(self, r):
-        """Half angular tooth thickness psi(r) = pi/(2z) + sigma (2 x tan(alpha_n)/z
-        + inv(alpha_t) - inv(alpha(r))) at radius r >= r_b (no check), rad."""
+        """Half angular tooth thickness psi(r) = pi/(2z) + sigma (2 x_E tan(alpha_n)/z
+        + inv(alpha_t) - inv(alpha(r))) at radius r >= r_b (no check), rad; x_E the generating
+        shift (sigma 2 (x_E - x) tan(alpha_n) / z = A_sn / (z m_n), the allowance's turn)."""
         z = self.teeth
         an = math.radians(self.normal_pressure_angle)
-        const = 2.0 * self.profile_shift * math.tan(an) / z + involute(
+        const = 2.0 * self.generating_shift * math.tan(an) / z + involute(
             self.transverse_pressure_angle
         )
         return 0.5 * math.pi / z + self.sigma * (const - involute_polar(r, self.base_radius))
 
     def tooth_thickness(self, r):
         """Transverse arc thickness s(r) = 2 r psi(r) of the involute tooth at radius r (mm,
-        vectorised); at the reference circle s = m_t (pi/2 + sigma 2 x tan(alpha_n)).
+        vectorised); at the reference circle s = m_t (pi/2 + sigma 2 x tan(alpha_n)) + A_sn /
+        cos(beta).
         Defined for r >= r_b (GeometryError below); beyond the tooth it extends the involutes."""
         r = np.asarray(r, dtype=float)
         if np.any(r < self.base_radius):
@@ -342,7 +374,7 @@ class GearSpec:
 
     @cached_property
     def _tool(self) -> _Rack | _Shaper:
-        m_n, x = self.normal_module, self.profile_shift
+        m_n, x = self.normal_module, self.generating_shift
         an = math.radians(self.normal_pressure_angle)
         rho = self.hob_tip_radius_coef * m_n
         if not self.internal:

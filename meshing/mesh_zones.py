@@ -26,13 +26,21 @@ line) has roll t' from its own tangency point (external: r_b1 t + r_b2 t' = a si
 internal: r_b2 t' = r_b1 t + a sin alpha_w), which fixes its theta0 and hence its placement
 angle. With the base helix angles equal the contact stays on the line of action across the
 face width, so the drive flanks touch along the theoretical contact lines; the coast flanks
-are then apart by the pair's backlash (zero for the cases' zero-backlash shifts).
+are then apart by the pair's normal backlash (the tooth thickness allowances of the gear set,
+:func:`gears.pair.assign_chain_backlash`; zero for zero allowances).
+
+Coast flanks. :func:`coast_zone` is the same mesh seen from its coast flanks: the sides
+swapped, the line of action mirrored about the centre line (tau_c = gamma + s_c alpha_w with
+the coast flanks' unwinding sense s_c = -s), its direction -s_c perp(tau_c) (out of the
+driver's coast flank, towards the driven gear), and the contact lines there. Everything that
+works on the drive flanks of a zone (contact lines, contact grids) works on this view
+unchanged; the driven coast flank is then the normal backlash away from the lines.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -127,11 +135,19 @@ class MeshZone:
     window: tuple[float, float]  # driver roll length range in contact (from T), mm
     backlash: float  # circumferential backlash of the pair, mm (coast side)
     contact_lines: tuple = ()  # ((driver tooth, driven tooth, points (N, 3)), ...)
+    flanks: str = "drive"  # which flanks the sides, tau, direction, lines are: drive / coast
 
     @property
     def coast_sides(self) -> tuple[str, str]:
+        """The other flanks of this view: the coast flanks of a drive view, and vice versa."""
         other = {"pos": "neg", "neg": "pos"}
         return other[self.driver_side], other[self.driven_side]
+
+    @property
+    def name(self) -> str:
+        """``driver-driven``, ``driver-driven/coast`` for the coast view."""
+        base = f"{self.driver}-{self.driven}"
+        return base if self.flanks == "drive" else f"{base}/{self.flanks}"
 
 
 # --------------------------------------------------------------------------------------
@@ -159,8 +175,9 @@ def solve_mesh(
     if check_pair and backlash < -1e-9:
         raise MeshingError(
             f"{drv_gear.name}/{dvn_gear.name}: centre distance {a:.4f} mm gives backlash "
-            f"{backlash * 1e3:.2f} um < 0: the teeth interpenetrate (the shifts of the gears "
-            "need a larger distance for an external mesh)"
+            f"{backlash * 1e3:.2f} um < 0: the teeth interpenetrate (the shifts and tooth "
+            f"thickness allowances of the gears need a {'smaller' if internal else 'larger'} "
+            "centre distance)"
         )
     s = -drv_omega  # drive flank of an external driver faces its rotation
     fa = flank_of(drv_gear, flank_sides(drv_gear)[s])
@@ -210,19 +227,51 @@ def solve_mesh(
     return float(angle_b), zone
 
 
+def coast_zone(zone: MeshZone, drv: PlacedGear, dvn: PlacedGear) -> MeshZone:
+    """The mesh zone seen from its coast flanks (module docstring), with its contact lines;
+    ``zone`` must be a drive view."""
+    if zone.flanks != "drive":
+        raise ValueError(f"{zone.name}: coast_zone needs the drive view of the zone")
+    side_a, side_b = zone.coast_sides
+    fa = flank_of(drv.gear, side_a)
+    tau = zone.gamma + fa.s * zone.pressure_angle
+    d = -fa.s * unit_perp(tau)
+    ca = np.asarray(drv.placement.centre, float)
+    view = MeshZone(
+        driver=zone.driver,
+        driven=zone.driven,
+        internal=zone.internal,
+        driver_side=side_a,
+        driven_side=side_b,
+        centre_distance=zone.centre_distance,
+        pressure_angle=zone.pressure_angle,
+        gamma=zone.gamma,
+        tau=tau,
+        direction=(float(d[0]), float(d[1])),
+        tangency=tuple(float(v) for v in ca + fa.rb * unit(tau)),
+        window=zone.window,  # the zone is symmetric about the centre line
+        backlash=zone.backlash,
+        flanks="coast",
+    )
+    return replace(view, contact_lines=contact_lines(view, drv, dvn))
+
+
 def contact_lines(zone: MeshZone, drv: PlacedGear, dvn: PlacedGear, n=41, coast=False):
     """Theoretical contact lines of the zone: per driver tooth in contact, the points
-    (scene frame) of its drive flank on the line of action within the contact window and
-    the common face width, with the index of the driven tooth they touch.
+    (scene frame) of its flank (``zone.driver_side``) on the zone's line of action within
+    the contact window and the common face width, with the index of the driven tooth they
+    touch.
 
-    ``coast=True``: the same for the coast flanks (the line of action mirrored about the
-    centre line); the driven coast flank is then the normal backlash away from the points.
+    ``coast=True``: the same for the coast flanks of a drive view (the lines of
+    ``coast_zone``); the driven coast flank is then the normal backlash away from the points.
     """
+    if coast:
+        return coast_zone(zone, drv, dvn).contact_lines
     ga, gb = drv.gear, dvn.gear
-    side_a, side_b = zone.coast_sides if coast else (zone.driver_side, zone.driven_side)
-    fa = flank_of(ga, side_a)
+    side_b = zone.driven_side
+    fa = flank_of(ga, zone.driver_side)
     s = fa.s
-    tau = zone.gamma + s * zone.pressure_angle if coast else zone.tau
+    tau = zone.tau
     ca = np.asarray(drv.placement.centre, float)
     T0 = ca + fa.rb * unit(tau)
     d = -s * unit_perp(tau)
@@ -256,14 +305,17 @@ def normal_backlash(zone: MeshZone, drv: PlacedGear) -> float:
 def flank_separation(zone: MeshZone, drv: PlacedGear, dvn: PlacedGear, n_r=15, n_z=15):
     """Separations (mm, exact geometry) of the driver's flanks from the driven gear's: the
     drive (and coast) flank surfaces of the driver's teeth near the zone are sampled on an
-    (n_r x n_z) grid per tooth and measured with ``involute_deviation`` of the driven gear's
-    drive (coast) flank, where they lie within the driven gear's involute radii."""
+    (n_r x n_z) grid per tooth, and on the theoretical drive (coast) contact lines, where
+    perfect involutes come closest, and measured with ``involute_deviation`` of the driven
+    gear's drive (coast) flank, where they lie within the driven gear's involute radii.
+    ``min_coast`` is then the normal backlash (to round-off) and ``min_drive`` zero."""
 
     ga, gb = drv.gear, dvn.gear
     b = min(ga.face_width, gb.face_width)
     zs = np.linspace(-0.5 * b, 0.5 * b, n_z)
     r_lo_b, r_hi_b = sorted((gb.form_radius, gb.tip_radius))
     res = {}
+    on_lines = {"drive": zone.contact_lines, "coast": contact_lines(zone, drv, dvn, coast=True)}
     for label, side_a, side_b in (
         ("drive", zone.driver_side, zone.driven_side),
         ("coast", zone.coast_sides[0], zone.coast_sides[1]),
@@ -287,6 +339,8 @@ def flank_separation(zone: MeshZone, drv: PlacedGear, dvn: PlacedGear, n_r=15, n
             keep = (rb_ >= r_lo_b) & (rb_ <= r_hi_b)
             if keep.any():
                 vals.append(involute_deviation(gb, local[keep], side_b))
+        for _, _, pts in on_lines[label]:
+            vals.append(involute_deviation(gb, dvn.placement.inverse(pts), side_b))
         v = np.concatenate(vals) if vals else np.array([np.inf])
         res[f"min_{label}"] = float(v.min())
     return res

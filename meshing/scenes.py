@@ -259,6 +259,7 @@ def planetary_scene(
     carrier: bool = False,
     rp_side: int = +1,
     cycle_bodies: bool = True,
+    planet_angles_deg: tuple | None = None,
 ) -> Scene:
     """The gear set at sun angle ``roll`` (rad): one branch on +x, or every branch.
 
@@ -271,10 +272,15 @@ def planetary_scene(
     the mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun; sampled
     at five angles), so all the positions of a cycle share the same bodies and a body's
     stiffness and factorization serve them all. Off: the teeth in contact at ``roll`` only.
+
+    ``planet_angles_deg`` (all planets, no carrier body): the carrier angles of the branches
+    (deg, one per planet of the set) instead of the assemblable angles nearest to equal
+    spacing; a branch out of phase with the ring raises (assembly condition).
     """
     roll = _validate_roll(roll)
     options = {"phase_offsets": phase_offsets, "pinion_radial_offset": pinion_radial_offset,
-               "pin_diameter": pin_diameter, "carrier": carrier, "rp_side": rp_side}  # fmt: skip
+               "pin_diameter": pin_diameter, "carrier": carrier, "rp_side": rp_side,
+               "planet_angles_deg": planet_angles_deg}  # fmt: skip
     cover: dict[str, set[int]] = {}
     if cycle_bodies:
         pitch = 2 * math.pi / gearset.gears[gearset.power_path[0]].teeth
@@ -295,9 +301,14 @@ def planetary_scene(
     ring_kw = {"outer_radius": ring.root_radius + RING_RIM_THICKNESS}
     if all_planets:
         n = gearset.planets
-        angles = [float(x) for x in assemblable_angles(sun.teeth, ring.teeth, n, double)]
+        if planet_angles_deg is None:
+            angles = [float(x) for x in assemblable_angles(sun.teeth, ring.teeth, n, double)]
+        else:
+            angles = _given_planet_angles(planet_angles_deg, n, carrier)
         branch_names = [[f"{p}{k + 1}" for p in pinions] for k in range(n)]
     else:
+        if planet_angles_deg is not None:
+            raise MeshingError("planet_angles_deg: only for the all-planet scenes")
         angles = [0.0]
         branch_names = [list(pinions)]
     placed, zones, ring_angles = [], [], []
@@ -333,6 +344,7 @@ def planetary_scene(
         rule = "z_ring - z_sun" if double else "z_sun + z_ring"
         steps = ring.teeth - sun.teeth if double else ring.teeth + sun.teeth
         spacing = "equally spaced" if steps % gearset.planets == 0 else "not equally spaced"
+        spacing = "given" if planet_angles_deg is not None else spacing
         notes.append(
             f"planet angles (deg): {a_deg}; {rule} = {steps}, {gearset.planets} branches: "
             f"{spacing} (assembly condition)"
@@ -363,6 +375,25 @@ def planetary_scene(
         branches=len(angles),
         cover=cover,
     )
+
+
+def _given_planet_angles(angles_deg, n: int, carrier: bool) -> list[float]:
+    """``planet_angles_deg`` checked (n finite, distinct carrier angles in degrees) -> rad."""
+    ok = isinstance(angles_deg, (tuple, list)) and len(angles_deg) == n
+    ok = ok and all(isinstance(a, (int, float)) and not isinstance(a, bool) for a in angles_deg)
+    ok = ok and all(math.isfinite(a) for a in angles_deg)
+    if not ok:
+        raise MeshingError(
+            f"planet_angles_deg = {angles_deg!r}: must be {n} finite numbers (deg), one per "
+            "planet of the gear set"
+        )
+    rad = [math.radians(float(a)) for a in angles_deg]
+    gaps = [abs(math.remainder(a - b, 2 * math.pi)) for i, a in enumerate(rad) for b in rad[:i]]
+    if gaps and min(gaps) < 1e-9:
+        raise MeshingError(f"planet_angles_deg = {angles_deg!r}: two planets at one angle")
+    if carrier:
+        raise MeshingError("planet_angles_deg: the carrier body has its pins at equal spacing")
+    return rad
 
 
 def branch_scene(gearset, roll: float = 0.0, **options) -> Scene:

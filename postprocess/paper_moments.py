@@ -14,7 +14,11 @@ Double pinion (the SP and RP frames of section 5): ``Mx_SP``, ``My_SP``, ``Mx_RP
 with ``ZS``, ``Z_SPRP``, ``ZR`` for the sun-SP, SP-RP and RP-ring meshes), the FE axial
 forces, the four LOA moments of section 5 from the FE moments, and ``analytic``: Table 5
 (concentrated load at the pitch points) and the same closed form with each mesh force moved
-to the FE's own load centroid (``at_fe_centroids``).
+to the FE's own load centroid (``at_fe_centroids``). The four LOA moments also under the
+names of issue 12, ``M_LOA_sun_SP``, ``M_LOA_SP_RP``, ``M_LOA_RP_SP``, ``M_LOA_RP_ring`` (the
+same numbers as ``M_LOA_SP_SUN`` ... ``M_LOA_RP_RING``), and the SP-RP differential
+``M_LOA_SPRP_diff = M_LOA_SP_RP + M_LOA_RP_SP`` with its exact split over the mesh load
+centroids (``sp_rp_differential``, :func:`_sp_rp_differential`).
 
 With several branches in a scene (``all_planets``) the top-level keys are the means over the
 branches and ``branches`` lists each.
@@ -41,8 +45,24 @@ MEAN_KEYS = {
     "double_pinion": (
         "Mx_SP", "My_SP", "Mz_SP", "Mx_RP", "My_RP", "Mz_RP", "ZS", "Z_SPRP", "ZR",
         "M_LOA_SP_SUN", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_RING",
+        "M_LOA_sun_SP", "M_LOA_RP_ring", "M_LOA_SPRP_diff", "f_ma_SPRP_um",
     ),
 }  # fmt: skip
+
+#: the issue-12 names of the double-pinion LOA moments -> the names of section 5's formulas
+#: (:func:`gears.analytic.double_pinion.loa_moments`); M_LOA_SP_RP, M_LOA_RP_SP are the same
+LOA_ALIASES = {"M_LOA_sun_SP": "M_LOA_SP_SUN", "M_LOA_RP_ring": "M_LOA_RP_RING"}
+_PINION_MOMENTS = ("Mx_SP", "My_SP", "Mx_RP", "My_RP")
+
+
+def with_loa_aliases(moments: dict) -> dict:
+    """``moments`` with the :data:`LOA_ALIASES` keys added (same numbers) and the SP-RP
+    differential ``M_LOA_SPRP_diff`` (when both SP-RP moments are there)."""
+    out = dict(moments)
+    out.update({new: moments[old] for new, old in LOA_ALIASES.items() if old in moments})
+    if "M_LOA_SP_RP" in moments and "M_LOA_RP_SP" in moments:
+        out["M_LOA_SPRP_diff"] = moments["M_LOA_SP_RP"] + moments["M_LOA_RP_SP"]
+    return out
 
 
 def _single_branch(train: dict, gearset, names: list[str]) -> dict:
@@ -108,7 +128,10 @@ def _double_branch(train: dict, gearset, names: list[str]) -> dict:
     }
     frames = {roles[b]: np.asarray(train["pinions"][b]["frame"]) for b in names}
     centres = {roles[b]: np.asarray(train["pinions"][b]["centre_mm"]) for b in names}
-    out: dict = {"pinions": list(names), "centres_mm": {k: v.tolist() for k, v in centres.items()},
+    # "pinion_bodies", not "pinions": a position also holds train_results' "pinions" (per
+    # body), which this key would overwrite
+    out: dict = {"pinion_bodies": list(names),
+                 "centres_mm": {k: v.tolist() for k, v in centres.items()},
                  "frames": {k: v.tolist() for k, v in frames.items()}}  # fmt: skip
     for b in names:
         pn, P = roles[b], train["pinions"][b]
@@ -140,8 +163,12 @@ def _double_branch(train: dict, gearset, names: list[str]) -> dict:
     out["ZR"] = out["Z_RP-ring_RP"]
     inp = gearset.planetary_input()
     geo, fz = double_pinion_geometry(inp), double_pinion_axial_forces(inp)
-    out.update(dp.loa_moments(out["Mx_SP"], out["My_SP"], out["Mx_RP"], out["My_RP"], geo))
-    table5 = dp.double_pinion_moments(fz, geo)
+    out.update(
+        with_loa_aliases(
+            dp.loa_moments(out["Mx_SP"], out["My_SP"], out["Mx_RP"], out["My_RP"], geo)
+        )
+    )
+    table5 = with_loa_aliases(dp.double_pinion_moments(fz, geo))
     # Closed form moved to the FE centroid offsets: the analytic mesh forces (axial part from
     # the closed form, direction = the exact plane-of-action normal of the grid) at the pitch
     # point + Z e_Z; the transverse parts then add Z x F_transverse to Mx, My.
@@ -160,7 +187,7 @@ def _double_branch(train: dict, gearset, names: list[str]) -> dict:
     }
     on_sign = {("sun-SP", "SP"): +1.0, ("SP-RP", "SP"): -1.0, ("SP-RP", "RP"): +1.0,
                ("RP-ring", "RP"): -1.0}  # fmt: skip
-    shifted = {}
+    shifted, pitch_points = {}, {}
     for pn in ("SP", "RP"):
         Q = frames[pn]
         m = np.zeros(3)
@@ -178,6 +205,7 @@ def _double_branch(train: dict, gearset, names: list[str]) -> dict:
             else:
                 d = centres[towards] - centres[pn]
             d = Q @ (d / np.linalg.norm(d))
+            pitch_points[(label, pn)] = (r_w, d)
             r = r_w * d + np.array([0.0, 0.0, out[f"Z_{label}_{pn}"]])
             m += n_m(np.cross(r, f_vec))
             # where the FE centroid sits along the transverse line of action from the pitch
@@ -185,9 +213,7 @@ def _double_branch(train: dict, gearset, names: list[str]) -> dict:
             t = np.array([n[0], n[1], 0.0]) / math.hypot(n[0], n[1])
             out[f"loa_offset_{label}_{pn}_mm"] = float((cent[(label, pn)] @ Q.T - r_w * d) @ t)
         shifted[f"Mx_{pn}"], shifted[f"My_{pn}"] = float(m[0]), float(m[1])
-    shifted.update(
-        dp.loa_moments(shifted["Mx_SP"], shifted["My_SP"], shifted["Mx_RP"], shifted["My_RP"], geo)
-    )
+    shifted.update(with_loa_aliases(dp.loa_moments(*(shifted[k] for k in _PINION_MOMENTS), geo)))
     out["analytic"] = {
         "table5": table5,
         "at_fe_centroids": shifted,
@@ -198,7 +224,78 @@ def _double_branch(train: dict, gearset, names: list[str]) -> dict:
         "theta_deg": math.degrees(geo.theta),
         "phi_deg": math.degrees(geo.phi),
     }
+    face = min(gearset.gears[set_sp].face_width, gearset.gears[set_rp].face_width)
+    out["sp_rp_differential"] = _sp_rp_differential(
+        train, meshes, frames, centres, pitch_points, geo, face, out, table5
+    )
+    out["f_ma_SPRP_um"] = out["sp_rp_differential"]["misalignment_um"]
     return out
+
+
+def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face, out, table5):
+    """The SP-RP LOA differential D = M_LOA_SP_RP + M_LOA_RP_SP split exactly over the mesh
+    load centroids (singh2007 Table 5 gives 11 N m with every mesh force at its pitch point).
+
+    In the scene frame D = (M_RP - M_SP) . u, u the normal of the SP-RP plane of action
+    (M_LOA_SP_RP = w_SP . M_SP, M_LOA_RP_SP = w_RP . M_RP in the pinion frames, section 5):
+    the relative tilt of the two pinions in that plane, the SP-RP misalignment, is D over the
+    tilting stiffness. The force F of a mesh on a pinion acts at its load centroid (all the
+    grid forces of a helical involute mesh share one direction), which lies in the plane of
+    action: pitch point + s t + Z e_Z, t the transverse direction of F. The pinion's share
+    of D is therefore exactly
+
+        D_side = (r_pitch x F) . w + Z (e_Z x F) . w + s (t x F) . w     (N mm; N m below)
+
+    the first term Table 5's (the axial force at the pitch point: r_pitch x F_transverse
+    is along e_Z), the others the centroid terms, ``dD_dZ`` and ``dD_ds`` their
+    sensitivities (N m per mm). ``other`` closes the sum (the centroid off the plane of
+    action, round-off). The SP-RP mesh force acts on both pinions: its Z term counts twice
+    (an axial offset puts opposite moments on SP and RP), its s term cancels (the centroid
+    moves along the line of action by +s from one pinion and -s from the other).
+
+    ``misalignment_um``: the relative tilt of RP against SP about u (the bearing tilts)
+    times the smaller face width; ``Z_lines_<side>``: the centroid of the contact-line grid
+    itself (what a uniform line load would give at this mesh position)."""
+    c1, s1 = math.cos(geo.theta - geo.a2), math.sin(geo.theta - geo.a2)
+    c2, s2 = math.cos(geo.phi + geo.a2), math.sin(geo.phi + geo.a2)
+    w = {"SP": np.array([-c1, -s1, 0.0]), "RP": np.array([-c2, s2, 0.0])}
+    u = -frames["SP"].T @ w["SP"]  # scene frame; equal to frames["RP"].T @ w["RP"]
+    sides = {}
+    for (label, pn), (r_w, d) in pitch_points.items():
+        M = train["meshes"][meshes[label]]
+        Q = frames[pn]
+        F = np.asarray(out[f"F_{label}_on_{pn}_N"], float)  # pinion frame
+        r = np.asarray(M["on"][pn]["centroid_mm"], float) @ Q.T  # from the pinion centre
+        t = np.array([F[0], F[1], 0.0]) / math.hypot(F[0], F[1])
+        Z, s = float(r[2]), float(r @ t)
+        r_pitch = r_w * d
+        s -= float(r_pitch @ t)
+        total = float(n_m(np.cross(r, F) @ w[pn]))
+        pitch = float(n_m(np.cross(r_pitch, F) @ w[pn]))
+        dz = float(n_m(np.cross([0.0, 0.0, 1.0], F) @ w[pn]))
+        ds = float(n_m(np.cross(t, F) @ w[pn]))
+        z_lines = (np.asarray(M["points"]["x_mm"], float) - centres[pn]) @ Q[2]
+        sides[f"{label}_{pn}"] = {
+            "D": total, "pitch": pitch, "Z_mm": Z, "s_mm": s, "dD_dZ": dz, "dD_ds": ds,
+            "from_Z": Z * dz, "from_s": s * ds, "other": total - pitch - Z * dz - s * ds,
+            "Z_lines_mm": float(z_lines.mean()) if z_lines.size else float("nan"),
+        }  # fmt: skip
+    tilt = {pn: frames[pn].T @ np.asarray(out[f"{pn}_tilt_rad"], float) for pn in frames}
+    rel = float((tilt["RP"] - tilt["SP"]) @ u)
+    d_fe = out["M_LOA_SPRP_diff"]
+    return {
+        "D_fe": d_fe,
+        "D_table5": table5["M_LOA_SPRP_diff"],
+        "D_pitch": sum(v["pitch"] for v in sides.values()),
+        "from_Z": sum(v["from_Z"] for v in sides.values()),
+        "from_s": sum(v["from_s"] for v in sides.values()),
+        "other": sum(v["other"] for v in sides.values()),
+        "sides": sides,
+        "u": u.tolist(),
+        "relative_tilt_rad": rel,
+        "misalignment_um": rel * face * 1e3,
+        "face_width_mm": face,
+    }
 
 
 _BRANCH = {"single_pinion": _single_branch, "double_pinion": _double_branch}

@@ -10,6 +10,14 @@ top level, the closed-form reference of the kind, the ISO 6336-3 nominal root st
 per-position records, the failed positions, and ``inputs`` / ``provenance``: everything that
 produced it, so a report never re-reads a case file.
 
+Double pinion (:func:`double_pinion_reference`, :func:`double_pinion_means`): ``analytic``
+holds singh2007 Table 5 (2-B, the set's own triangle; 2-A, the collinear limit theta = 180
+deg, phi = 0) and the closed form at the FE's own load centroids (mean over the positions);
+the summary also holds the mean bearing forces and tilts of SP and RP, the centroid offset
+and line-of-action offset of every mesh on every pinion, and the SP-RP differential split
+over the load centroids (``sp_rp_differential``, :func:`postprocess.paper_moments.
+_sp_rp_differential`).
+
 Contact stress: ``contact_stress`` and ``contact_stress_mean_loaded`` are kept as before (the
 means over the positions of each position's peak and of its mean over loaded points); the
 numbers to quote are in ``contact_stress_cycle`` (per mesh, :func:`postprocess.mesh_stress.
@@ -19,17 +27,25 @@ as an edge-load indicator, K_Hbeta = w_max / w_mean and ISO 6336-2 sigma_H0 sqrt
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from gears.analytic import double_pinion as dp
 from gears.analytic import single_pinion as sp
-from gears.analytic.planetary import single_pinion_geometry
+from gears.analytic.planetary import (
+    double_pinion_axial_forces,
+    double_pinion_geometry,
+    single_pinion_geometry,
+)
 from postprocess.mesh_stress import (
     contact_stress_at_points,
     contact_stress_cycle,
     edge_points,
     iso_nominal_root_stress,
 )
-from postprocess.paper_moments import MEAN_KEYS
+from postprocess.paper_moments import MEAN_KEYS, with_loa_aliases
+from postprocess.train_results import coast_summary
 
 
 def mesh_key(mesh: str) -> str:
@@ -58,6 +74,8 @@ def position_record(study, pos: dict) -> dict:
         wall_time_s=pos["timings"]["wall"],
         reused=bool(pos.get("reused", False)),
     )
+    if study.gearset.kind == "double_pinion":
+        rec["sp_rp_differential"] = _mean_tree([r["sp_rp_differential"] for r in _branch_rows(pos)])
     return rec
 
 
@@ -89,6 +107,62 @@ def analytic_reference(study, fe: dict) -> dict:
         la_s, la_r = sp.loa_moments(mx, my, geo.alpha1, geo.alpha2)
         out[name] = {"Mx_pin": mx, "My_pin": my, "M_LOA_sun": la_s, "M_LOA_ring": la_r}
     return out
+
+
+def _branch_rows(pos: dict) -> list[dict]:
+    """The branch records of a position: its ``branches`` (all-planet scenes) or itself."""
+    return pos["branches"] if "branches" in pos else [pos]
+
+
+def _mean_tree(trees: list):
+    """The mean of same-shaped JSON trees: numbers and lists of numbers element-wise, dicts
+    key by key (keys of the first tree); anything else is taken from the first tree."""
+    first = trees[0]
+    if isinstance(first, dict):
+        return {k: _mean_tree([t[k] for t in trees]) for k in first}
+    if isinstance(first, bool) or not isinstance(first, (int, float, list)):
+        return first
+    return np.mean(np.asarray(trees, float), axis=0).tolist()
+
+
+def double_pinion_reference(study, solved: list[dict]) -> dict:
+    """singh2007 Table 5 from the gear set: ``table5`` (case 2-B, the set's own sun / SP / RP
+    triangle) and ``table5_2A`` (the collinear limit theta = 180 deg, phi = 0, case 2-A);
+    ``at_fe_centroids``: the same closed form with each mesh force moved to the FE's load
+    centroid, mean over the positions (and branches). N m; angles deg."""
+    inp = study.gearset.planetary_input()
+    fz = double_pinion_axial_forces(inp)
+    out = {}
+    for name, kw in (("table5", {}), ("table5_2A", {"theta": math.pi, "phi": 0.0})):
+        geo = double_pinion_geometry(inp, **kw)
+        out[name] = with_loa_aliases(dp.double_pinion_moments(fz, geo))
+        out[name].update(theta_deg=math.degrees(geo.theta), phi_deg=math.degrees(geo.phi))
+    rows = [r for p in solved for r in _branch_rows(p)]
+    out["at_fe_centroids"] = _mean_tree([r["analytic"]["at_fe_centroids"] for r in rows])
+    return out
+
+
+def double_pinion_means(solved: list[dict]) -> dict:
+    """Means over the positions (and branches) of what a double-pinion report quotes beside
+    :data:`MEAN_KEYS`: the bearing force (= the contact force on the pinion, N) and tilt (rad)
+    of SP and RP in their frames, the normal force of each mesh, the centroid offset Z and the
+    offset along the line of action of every mesh on every pinion (mm), and the SP-RP
+    differential split over the load centroids."""
+    rows = [r for p in solved for r in _branch_rows(p)]
+    first = rows[0]
+    mean = lambda key: _mean_tree([r[key] for r in rows])  # noqa: E731
+    offsets = [k for k in first if k.startswith(("Z_", "loa_offset_"))]
+    return {
+        "bearing_force_N": {pn: mean(f"{pn}_force_N") for pn in ("SP", "RP")},
+        "bearing_tilt_rad": {pn: mean(f"{pn}_tilt_rad") for pn in ("SP", "RP")},
+        "normal_force_N": {
+            k.removeprefix("normal_force_").removesuffix("_N"): mean(k)
+            for k in first
+            if k.startswith("normal_force_")
+        },
+        "mesh_offsets_mm": {k: mean(k) for k in offsets},
+        "sp_rp_differential": mean("sp_rp_differential"),
+    }
 
 
 def _system_means(study, solved: list[dict]) -> dict:
@@ -127,9 +201,13 @@ def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
         cycle = contact_stress_cycle(study.gearset, study.material, solved)
         summary["contact_stress_cycle"] = {mesh_key(m): v for m, v in cycle.items()}
         summary["analytic"] = analytic_reference(study, summary)
+        if study.gearset.kind == "double_pinion":
+            summary["analytic"] = double_pinion_reference(study, solved)
+            summary.update(double_pinion_means(solved))
         summary["dofs"] = solved[0]["dofs"]
         if "branches" in solved[0]:
             summary.update(_system_means(study, solved))
+    summary["coast"] = coast_summary(solved)  # smallest coast gap, coast load (None: no grids)
     summary["bending_stress"] = _mean_bending(records)  # FE fillet stress, mean over positions
     summary["bending_stress_iso6336_nominal"] = iso_nominal_root_stress(study.gearset)
     summary["positions"] = records

@@ -16,6 +16,13 @@ is driven, -n if it drives: n points from driver to driven), the load-centroid a
 Z = sum F_k Z_k / sum F_k (mm from mid face width, Z along e_Z of that pinion) and the
 centroid vector from the pinion centre.
 
+Coast flanks (``coast``, per mesh "driver-driven", from its grid "driver-driven/coast"; kept
+apart so that no drive-flank number or key changes): the normal force and active points on
+the coast flanks, the initial gap (the normal backlash, plus modifications), the smallest
+final gap ``min_gap_mm`` (negative: closed, the penalty penetration of a loaded point) and
+the points with their forces and final gaps. ``coast_min_gap_mm`` and ``coast_force_N`` sum
+them up over the meshes; :func:`coast_summary` over the positions of a study.
+
 Torques about the scene axis: applied sun torque, sun and ring contact torques, ring support
 reaction (their balance is a check the solver does not impose).
 """
@@ -25,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from gears.units import n_m
+from solvers.flank_grid import is_coast, mesh_name
 from solvers.gear_train import BEARING_DOFS
 from solvers.results import contact_resultant, line_load, residual_resultant
 
@@ -105,6 +113,54 @@ def _mesh(model, result, index: int, zone) -> dict:
     return out
 
 
+def _coast(model, result, index: int, zone) -> dict:
+    """The coast-flank grid of a mesh after the solve (see the module docstring)."""
+    p = model.problem
+    sl = slice(p.offsets[index], p.offsets[index + 1])
+    F = result.forces[sl]
+    gap = np.asarray(result.gaps[sl], float)
+    g = p.pairs[index].grid
+    return {
+        "driver": zone.driver,
+        "driven": zone.driven,
+        "normal_force_N": float(F.sum()),
+        "active_points": int(np.count_nonzero(F > 0)),
+        "grid_points": g.n,
+        "loaded": bool(np.any(F > 0)),
+        "initial_gap_min_mm": float(np.min(g.gap0)),
+        "min_gap_mm": float(gap.min()),
+        "normal": np.asarray(g.normals[0], float).tolist(),  # out of the driver's coast flank
+        "points": {
+            "x_mm": g.x_a.tolist(),
+            "force_N": F.tolist(),
+            "gap_mm": gap.tolist(),
+            "line_load_N_per_mm": line_load(p, result, index).tolist(),
+        },
+    }
+
+
+def coast_summary(positions: list[dict]) -> dict | None:
+    """The coast flanks over the positions of a study: per mesh and overall, the smallest
+    final gap (mm; negative: closed) and the largest coast force (N), and whether any coast
+    point carried load. None when the positions have no coast grids."""
+    with_coast = [p for p in positions if p.get("coast")]
+    if not with_coast:
+        return None
+    meshes = {}
+    for name in with_coast[0]["coast"]:
+        rows = [p["coast"][name] for p in with_coast if name in p["coast"]]
+        meshes[name] = {
+            "min_gap_mm": float(min(r["min_gap_mm"] for r in rows)),
+            "max_force_N": float(max(r["normal_force_N"] for r in rows)),
+            "loaded_positions": int(sum(r["loaded"] for r in rows)),
+        }
+    return {
+        "min_gap_mm": float(min(m["min_gap_mm"] for m in meshes.values())),
+        "loaded": any(m["loaded_positions"] for m in meshes.values()),
+        "meshes": meshes,
+    }
+
+
 def _carrier(model, result) -> dict:
     """The carrier of a system scene: the bearing loads on its pins, its reaction torque at
     the hub, the displacement and wind-up (mean rotation about z) of the pins."""
@@ -133,9 +189,13 @@ def train_results(model, result) -> dict:
     res, mismatch = body_resultants(p, result)
     sun, ring = model.scene.sun_name, model.scene.ring_name
     zones = {f"{z.driver}-{z.driven}": z for z in model.scene.zones}
-    meshes = {}
+    meshes, coast = {}, {}
     for i, pair in enumerate(p.pairs):
-        meshes[pair.grid.name] = _mesh(model, result, i, zones[pair.grid.name])
+        name = pair.grid.name
+        if is_coast(name):
+            coast[mesh_name(name)] = _coast(model, result, i, zones[mesh_name(name)])
+        else:
+            meshes[name] = _mesh(model, result, i, zones[name])
     out = {
         "pinions": {pn: _pinion(model, result, pn, res) for pn in model.pinions},
         "meshes": meshes,
@@ -147,6 +207,10 @@ def train_results(model, result) -> dict:
         "rigid": dict(result.rigid),
         "active_set_iterations": len(result.history),
     }
+    if coast:
+        out["coast"] = coast
+        out["coast_min_gap_mm"] = float(min(c["min_gap_mm"] for c in coast.values()))
+        out["coast_force_N"] = float(sum(c["normal_force_N"] for c in coast.values()))
     if model.carrier is not None:
         out["carrier"] = _carrier(model, result)
         out["sun_centre_displacement_mm"] = [result.rigid[f"{sun}_{d}"] for d in ("x", "y")]

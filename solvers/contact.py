@@ -81,11 +81,14 @@ MAX_PENALTY_CONDITION = 1e12
 
 @dataclass(frozen=True)
 class ContactPair:
-    """A flank pair: grid + the two bodies (FE body or rigid obstacle names)."""
+    """A flank pair: grid + the two bodies (FE body or rigid obstacle names). ``standby``:
+    open when the solve starts (coast flanks, open by the backlash): the active set starts
+    with only its penetrating points and it takes load where it closes."""
 
     grid: ContactGrid
     body_a: str
     body_b: str
+    standby: bool = False
 
 
 @dataclass(frozen=True)
@@ -418,12 +421,16 @@ class ContactProblem:
         the open gaps are then the exact answer). Force control (free rigid unknowns): per
         pair, the points whose no-contact gap is within 10 % of the pair's gap range of its
         smallest gap, i.e. around where the flanks are closest; the iteration grows or
-        shrinks it from there, and only those points' compliance columns get formed.
+        shrinks it from there, and only those points' compliance columns get formed. A
+        ``standby`` pair (coast flanks, open by the backlash) starts with only its points
+        that penetrate: forcing an open pair shut in the first iterate can empty the set.
         """
         if not rigid_free:
             return g_base < 0
         A = np.zeros(self.n, dtype=bool)
-        for i in range(len(self.pairs)):
+        for i, pair in enumerate(self.pairs):
+            if pair.standby:
+                continue  # open at the start (coast flanks): only its closed points, below
             sl = slice(self.offsets[i], self.offsets[i + 1])
             g = g_base[sl]
             A[sl] = g <= g.min() + 0.1 * (g.max() - g.min())

@@ -1,4 +1,5 @@
-"""Contact grids on the exact theoretical contact lines of a gear scene's mesh zones.
+"""Contact grids on the exact theoretical contact lines of a gear scene's mesh zones, on the
+drive flanks and on the coast flanks.
 
 Grid (:func:`flank_grid`). For one mesh zone of a scene (:mod:`meshing.mesh_zones`) and every
 tooth pair in contact, the theoretical contact line is the intersection of the driver's
@@ -29,25 +30,43 @@ beta_b out of the transverse plane. n points from the driver (side A) to the dri
 meshes, the sun pushes the pinion towards -z). A test checks n against the gradient of the
 exact flank distance.
 
-Initial gap. g0 = dev_A(p) + dev_B(p) (+ optional microgeometry), dev the signed normal
-distance outside the material from :func:`gears.profile.involute_deviation` of
-each exact flank: for two flanks with common normal at p the separation along n is the sum
-of the two distances, and it is 0 (to ~1e-13 mm) on the theoretical lines of perfect
-involutes. ``micro(zone, points) -> (n,) mm`` adds crowning / misalignment (default none).
+Initial gap. g0 = dev_A(p) + dev_B(p) + mod_A(p) + mod_B(p) (+ micro), dev the signed normal
+distance outside the material from :func:`gears.profile.involute_deviation` of each exact
+flank: for two flanks with common normal at p the separation along n is the sum of the two
+distances, and it is 0 (to ~1e-13 mm) on the theoretical drive lines of perfect involutes.
+mod the material the flank modifications of each gear remove there
+(:func:`gears.microgeometry.flank_modification`, ``modifications`` by gear-set gear name:
+lead crown, lead slope, tip and end relief; the FE meshes keep the exact flanks), and
+``micro(zone, points) -> (n,) mm`` any further gap (misalignment; default none). The point
+on side B is moved onto the exact driven flank, x_b = p + dev_B n (dev_B is the backlash on
+a coast line, ~1e-13 mm on a drive line); the modifications move no point.
+
+Coast flanks. The same construction on :func:`meshing.mesh_zones.coast_zone`, the zone seen
+from its coast flanks (sides swapped, the mirrored plane of action, its own contact lines):
+the coast grid (``<driver>-<driven>/coast``) has the driver's coast flank on side A, the
+normal out of it towards the driven gear, and g0 = the exact coast separation, the normal
+backlash j_n (plus the modifications of the coast flanks). It carries force only where its
+gap closes (penalty contact with an active set, :mod:`solvers.contact`): an overturned
+pinion whose tilt across the face exceeds the backlash loads its coast flanks; otherwise they
+stay open. :func:`flank_contact_pairs` puts the coast pairs after all drive pairs.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
+from gears.microgeometry import flank_modification
 from gears.profile import involute_deviation
-from meshing.mesh_zones import flank_of
+from meshing.mesh_zones import coast_zone, flank_of
 from solvers.contact import ContactPair
 from solvers.contact_grid import ContactGrid
+
+#: grid-name suffix of the coast-flank grids ("sun-pinion/coast", ``MeshZone.name``)
+COAST = "/coast"
 
 
 @dataclass
@@ -55,9 +74,12 @@ class FlankGridInfo:
     """What :func:`flank_grid` laid out, beyond the :class:`ContactGrid` arrays."""
 
     lines: list[dict]  # per tooth pair: driver tooth, driven tooth, rows, length, spacing
-    dev_a: np.ndarray  # involute_deviation of the driver's drive flank at the points (mm)
-    dev_b: np.ndarray  # the same for the driven gear's drive flank
-    micro: np.ndarray  # microgeometry / misalignment part of g0 (mm)
+    dev_a: np.ndarray  # involute_deviation of the driver's flank at the points (mm)
+    dev_b: np.ndarray  # the same for the driven gear's flank
+    micro: np.ndarray  # microgeometry / misalignment part of g0 (mm): mod_a + mod_b + micro
+    mod_a: np.ndarray | None = None  # flank modifications of the driver at the points (mm)
+    mod_b: np.ndarray | None = None  # the same for the driven gear
+    flanks: str = "drive"  # "drive" or "coast"
 
 
 def _helix_rate(gear) -> float:
@@ -98,15 +120,20 @@ def flank_grid(
     width: float | None = None,
     micro: Callable | None = None,
     n_spread: int = 2,
+    modifications: Mapping | None = None,
 ) -> tuple[ContactGrid, FlankGridInfo]:
     """Contact grid of one mesh zone on the theoretical contact lines, eq. (1).
 
     Args:
-        zone: :class:`meshing.mesh_zones.MeshZone` (with ``contact_lines``: the tooth pairs).
+        zone: :class:`meshing.mesh_zones.MeshZone` (with ``contact_lines``: the tooth pairs),
+            the drive view or the coast view (:func:`meshing.mesh_zones.coast_zone`): the
+            grid lies on the flanks ``zone.driver_side`` / ``zone.driven_side``.
         drv, dvn: the driver and driven :class:`meshing.mesh_zones.PlacedGear`.
         spacing: target point spacing along the line (mm), ~ the flank element size.
         width: patch width across the line (mm); default ``spacing``.
         micro: optional ``micro(zone, points (n, 3)) -> (n,)`` added to g0 (mm).
+        modifications: flank modifications (:class:`gears.microgeometry.FlankModifications`)
+            by gear-set gear name (``PlacedGear.gear_name``); a gear not in it has none.
     """
     w_across = spacing if width is None else width
     ga, gb = drv.gear, dvn.gear
@@ -153,15 +180,21 @@ def flank_grid(
     x = np.vstack(pts)
     seg = np.concatenate(sp)
     m = len(x)
-    dev_a = involute_deviation(ga, drv.placement.inverse(x), zone.driver_side)
-    dev_b = involute_deviation(gb, dvn.placement.inverse(x), zone.driven_side)
-    mic = np.zeros(m) if micro is None else np.asarray(micro(zone, x), float).reshape(m)
+    local_a, local_b = drv.placement.inverse(x), dvn.placement.inverse(x)
+    dev_a = involute_deviation(ga, local_a, zone.driver_side)
+    dev_b = involute_deviation(gb, local_b, zone.driven_side)
+    mods = modifications or {}
+    mod_a = flank_modification(ga, mods.get(drv.gear_name), zone.driver_side, local_a)
+    mod_b = flank_modification(gb, mods.get(dvn.gear_name), zone.driven_side, local_b)
+    mic = mod_a + mod_b
+    if micro is not None:
+        mic = mic + np.asarray(micro(zone, x), float).reshape(m)
     tangents = np.broadcast_to(np.stack([tline, t2]), (m, 2, 3)).copy()
     half_across = np.minimum(_room(x, t2, drv, 0.5 * w_across), _room(x, t2, dvn, 0.5 * w_across))
     grid = ContactGrid(
-        f"{zone.driver}-{zone.driven}",
+        zone.name,
         x.copy(),
-        x.copy(),
+        x + dev_b[:, None] * n[None, :],
         np.tile(n, (m, 1)),
         dev_a + dev_b + mic,
         seg * w_across,
@@ -171,17 +204,39 @@ def flank_grid(
         station_length=seg.copy(),
         n_spread=n_spread,
     )
-    return grid, FlankGridInfo(lines, dev_a, dev_b, mic)
+    info = FlankGridInfo(lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks)
+    return grid, info
 
 
-def flank_contact_pairs(scene, spacing: float, width, micro):
+def flank_contact_pairs(
+    scene, spacing: float, width, micro, *, modifications: Mapping | None = None,
+    coast: bool = True,
+):  # fmt: skip
     """Contact grids on the exact theoretical contact lines of every mesh zone of the scene,
-    and the contact pairs (driver, driven) that carry them."""
+    and the contact pairs (driver, driven) that carry them: the drive-flank pairs of every
+    zone first, then (``coast``) the coast-flank pairs.
+
+    Returns ``(grids, pairs)``, ``grids`` by grid name: ``driver-driven`` (drive flanks) and
+    ``driver-driven/coast`` (coast flanks), each (grid, :class:`FlankGridInfo`).
+    ``modifications``: the gear set's flank modifications by gear name
+    (:attr:`cases.gearset.GearSet.modifications`)."""
+    views = list(scene.zones)
+    if coast:
+        views += [coast_zone(zn, scene.gear(zn.driver), scene.gear(zn.driven)) for zn in views]
     grids, pairs = {}, []
-    for zn in scene.zones:
-        g, info = flank_grid(
-            zn, scene.gear(zn.driver), scene.gear(zn.driven), spacing, width, micro
-        )
+    for zn in views:
+        g, info = flank_grid(zn, scene.gear(zn.driver), scene.gear(zn.driven), spacing, width,
+                             micro, modifications=modifications)  # fmt: skip
         grids[g.name] = (g, info)
-        pairs.append(ContactPair(g, zn.driver, zn.driven))
+        pairs.append(ContactPair(g, zn.driver, zn.driven, standby=zn.flanks == "coast"))
     return grids, pairs
+
+
+def is_coast(grid_name: str) -> bool:
+    """True for the name of a coast-flank grid (``driver-driven/coast``)."""
+    return grid_name.endswith(COAST)
+
+
+def mesh_name(grid_name: str) -> str:
+    """The mesh (``driver-driven``) a drive or coast grid belongs to."""
+    return grid_name.removesuffix(COAST)

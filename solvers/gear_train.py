@@ -26,8 +26,11 @@ by its gear's placement (a rigid map: the body's stiffness and factorization, ke
   spring's rest position, k (q_pinion - q_pin - e);
 * the ring: held at its outer rim (homogeneous Dirichlet on ``<ring>/rim``), so the ring
   reaction torque is the rim support reaction;
-* one contact pair per mesh zone, on the exact contact-line grid of
-  :func:`solvers.flank_grid.flank_grid` (driver on side A, driven on side B).
+* two contact pairs per mesh zone, on the exact contact-line grids of
+  :func:`solvers.flank_grid.flank_grid` (driver on side A, driven on side B): the drive
+  flanks, and after every drive pair the coast flanks, whose initial gap is the mesh's normal
+  backlash (they carry load only where a large tilt closes it). The gear set's flank
+  modifications enter both as initial gaps.
 
 Gears take E = E_case * gear_modulus_factor and nu from the study case.
 
@@ -53,7 +56,7 @@ from solvers.body_store import BodyStore
 from solvers.contact import ContactProblem, RigidUnknown, Spring, StiffnessBlock
 from solvers.contact_grid import ContactGrid
 from solvers.elastic_body import Dirichlet, ElasticBody, Material
-from solvers.flank_grid import FlankGridInfo, flank_contact_pairs
+from solvers.flank_grid import FlankGridInfo, flank_contact_pairs, is_coast, mesh_name
 from solvers.rigid_coupling import RigidCoupling
 from solvers.superelement import Superelement
 
@@ -85,6 +88,8 @@ class GearTrainModel:
     pins: dict[str, str | None] = field(default_factory=dict)  # pinion -> carrier pin prefix
     pin_errors: dict[str, np.ndarray] = field(default_factory=dict)  # pinion -> 6 offsets
     carrier: Superelement | None = None
+    # coast-flank grids per mesh zone "driver-driven" (grid "driver-driven/coast")
+    coast_grids: dict[str, tuple[ContactGrid, FlankGridInfo]] = field(default_factory=dict)
 
     @property
     def pinions(self) -> tuple[str, ...]:
@@ -266,7 +271,10 @@ def build_gear_train(
     t0 = time.perf_counter()
     store = BodyStore() if store is None else store
     bodies = gear_bodies(scene, meshes, study, degree, store)
-    grids, pairs = flank_contact_pairs(scene, spacing, width, micro)
+    mods = getattr(study.gearset, "modifications", None)
+    every, pairs = flank_contact_pairs(scene, spacing, width, micro, modifications=mods)
+    grids = {k: v for k, v in every.items() if not is_coast(k)}
+    coast_grids = {mesh_name(k): v for k, v in every.items() if is_coast(k)}
     torque = sun_torque(study.gearset, scene.branches)
     sun = scene.sun_name
     centres = {p: np.array([*scene.gear(p).placement.centre, 0.0]) for p in scene.pinion_names}
@@ -305,4 +313,4 @@ def build_gear_train(
     dofs = total_dofs(bodies) + (total_dofs([carrier.body]) if carrier else 0)
     timings = {"model": time.perf_counter() - t0}
     return GearTrainModel(problem, scene, grids, torque, centres, frames, bearings, dofs,
-                          timings, pins, errors, carrier)  # fmt: skip
+                          timings, pins, errors, carrier, coast_grids)  # fmt: skip

@@ -158,6 +158,10 @@ def test_pattern_is_where_the_load_is(case):
         order = np.argsort(q["z"])
         p_line = np.interp(pat.flank.z[iz], q["z"][order], p_expected[order])
         on = q["z"] > 0.5  # clear of the load's end at z = 0 by a grid spacing
+        # a line end on the path of contact may have its nearest sample just outside the
+        # active profile (no value there: it lies off the flank); at most one point a line
+        on &= np.isfinite(got)
+        assert on.sum() >= (q["z"] > 0.5).sum() - 1
         assert np.all(got[on] <= p_line[on] * (1 + 1e-12))
         assert np.all(got[on] >= (p_line * (1 - np.abs(dc) / p_bt))[on] * (1 - 1e-12))
         # The unloaded half: 0, or no value where the nearest sample lies just outside the
@@ -190,6 +194,7 @@ def test_rendered_pattern_shows_the_load(case, tmp_path):
     # white. 25 levels of 255 allow for Gouraud shading between samples and anti-aliasing.
     zc = pat.centroid_z
     clear = (np.abs(q["z"]) > 1.5) & (np.abs(q["z"] - zc) > 1.5) & (np.abs(q["z"]) < 12.0)
+    clear &= np.isfinite(pat.pressure[iu, iz])  # a line end just off the active profile
     assert clear.sum() >= 10
     assert np.abs(got[clear] - want[clear]).max() < 25.0
     white = np.array(colors.to_rgb(UNLOADED)) * 255

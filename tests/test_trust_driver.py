@@ -497,6 +497,7 @@ PICTURE = textwrap.dedent(
         p = pv.Sphere()
         p.cell_data["body"] = np.zeros(p.n_cells, int)
         p.cell_data["tooth"] = np.zeros(p.n_cells, int)
+        p.cell_data["pin"] = np.zeros(p.n_cells, int)
         return p, ["sun"]
 
     if sys.argv[2] == "raw":  # control: the picture code without the silencer
