@@ -121,6 +121,23 @@ phasing: $(STAMP) ## planet phasing, all-planet FE over one mesh cycle: results/
 	$(PY) -m studies.phasing --case parker2000-3 --case parker2000-4 0 91.4 180 271.4 \
 	  --positions 12 --level 0 --out $(RESULTS)/phasing
 
+# Peer cross-check (issue 16): 1-GA and 1-GC, one position, ours and CalculiX on the same
+# meshes (level 0; add LEVELS="0 1" for the default level). Installs calculix-ccx when run as
+# root and ccx is missing; the main `make` and `make test` never need it.
+.PHONY: bench-peer ccx-setup
+PEER_LEVELS ?= 0
+ccx-setup:
+	@command -v ccx >/dev/null 2>&1 || { \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+	    echo "installing calculix-ccx (apt-get)"; \
+	    DEBIAN_FRONTEND=noninteractive apt-get install -y calculix-ccx >/dev/null || \
+	      { apt-get update >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y calculix-ccx >/dev/null; }; \
+	  fi; \
+	  command -v ccx >/dev/null 2>&1 || { echo "error: CalculiX (ccx) not found and not installable here: run 'apt-get install -y calculix-ccx' as root (Debian/Ubuntu), or put ccx on PATH" >&2; exit 1; }; }
+
+bench-peer: $(STAMP) ccx-setup ## ours against CalculiX on the same meshes: results/bench/peer.{json,md}
+	$(PY) -m studies.bench_peer --cases 1-GA 1-GC --levels $(PEER_LEVELS) --out $(RESULTS)/bench
+
 lint: $(STAMP) ## ruff
 	$(VENV)/bin/ruff check $(PACKAGES) tests
 	$(VENV)/bin/ruff format --check $(PACKAGES) tests

@@ -1,0 +1,244 @@
+"""``python -m studies.phasing --case parker2000-3 --case parker2000-4 0 91.4 180 271.4
+--out results/phasing``: planet phasing (parker2000) from the all-planet quasi-static FE.
+
+Each ``--case NAME [ANGLE ...]`` is a study case (its gear set, bearing, level and number of
+positions); the angles (deg, one per planet of its gear set) place the planets instead of the
+assemblable angles nearest to equal spacing, each snapped to the nearest assemblable angle (a
+multiple of 360 / (Zs + Zr) deg; the snap is reported). The scene is ``all_planets``. The
+sun steps through one tooth pitch in ``model.positions`` equal steps (``--positions``
+overrides), every position of the cycle sharing the bodies (one
+:class:`solvers.body_store.BodyStore`). A spur gear set is solved with the helix angle
+``--spur-helix`` (deg) instead of 0, because the contact grid divides by the helix rate
+(:mod:`solvers.flank_grid`); the report says so.
+
+Writes ``phasing.json`` (the per-position records and the harmonic tables), ``report.md``,
+``<case>_histories.png`` and ``<case>_harmonics.png`` (:mod:`postprocess.phasing_fe`).
+``--report-only`` rewrites the report and figures from an existing ``phasing.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from mpi4py import MPI
+
+from cases.gearset import CaseError, parse_gearset
+from cases.study_case import load_study_case
+from gears.analytic import phasing
+from postprocess import phasing_fe as pf
+from solvers.body_store import BodyStore
+from studies.cli import exit_code, one_line
+from studies.files import atomic_write_text, read_json, write_json
+from studies.position import solve_position
+
+
+def near_spur(study, helix_deg: float):
+    """``study`` with every gear's helix angle 0 replaced by ``helix_deg`` (profile shifts
+    resolved again from the gear-set data), and a note; unchanged if no gear is spur."""
+    gs = study.gearset
+    if any(g.helix_angle > 0 for g in gs.gears.values()):
+        return study, "none (a helical set)"
+    src = dict(gs.source)
+    src["common"] = {**src.get("common", {}), "helix_angle": helix_deg}
+    src["gears"] = {
+        k: {**v, **({"helix_angle": helix_deg} if "helix_angle" in v else {})}
+        for k, v in src["gears"].items()
+    }
+    new = parse_gearset(src, f"{gs.name} (near spur)", gs.path)
+    sun = new.gears[new.power_path[0]]
+    twist = sun.face_width * math.tan(math.radians(helix_deg)) * 1e3
+    note = (
+        f"the gear set is spur (helix 0), which the contact grid cannot take "
+        f"(solvers/flank_grid.py divides by the helix rate: ZeroDivisionError); it is solved "
+        f"with helix angle {helix_deg:g} deg, a flank twist of {twist:.2f} um across the face "
+        "width at the sun's pitch circle and an axial force of "
+        f"{math.tan(math.radians(helix_deg)):.1e} of the tangential force"
+    )
+    return dataclasses.replace(study, gearset=new), note
+
+
+def planet_angles(study, angles_deg) -> tuple[list[float], float]:
+    """Given angles snapped to the assemblable ones (deg) and the largest snap (deg)."""
+    gs = study.gearset
+    zs, zr = gs.gears[gs.power_path[0]].teeth, gs.gears[gs.power_path[-1]].teeth
+    if len(angles_deg) != gs.planets:
+        raise CaseError(
+            f"{study.name}: {len(angles_deg)} planet angles for the {gs.planets} planets of "
+            f"gear set {gs.name}"
+        )
+    snapped = np.degrees(
+        phasing.snap_to_assemblable(np.radians(angles_deg), zs, zr, gs.kind == "double_pinion")
+    )
+    snap = float(np.max(np.abs(snapped - np.asarray(angles_deg, float))))
+    return [float(a) for a in snapped], snap
+
+
+def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, list]:
+    base = load_study_case(name)
+    study, note = near_spur(base, args.spur_helix)
+    study = dataclasses.replace(study, model=dataclasses.replace(study.model, scene="all_planets"))
+    gs = study.gearset
+    sun, ring = gs.gears[gs.power_path[0]], gs.gears[gs.power_path[-1]]
+    opts, snap = {}, 0.0
+    if angles:
+        psi, snap = planet_angles(study, angles)
+        opts["planet_angles_deg"] = tuple(psi)
+    else:
+        psi = [
+            math.degrees(a) for a in phasing.assemblable_angles(sun.teeth, ring.teeth, gs.planets)
+        ]
+    m = args.positions or study.model.positions
+    level = study.model.level if args.level is None else args.level
+    pitch = 2 * math.pi / sun.teeth
+    records = []
+    say(
+        f"{name}: {gs.planets} planets at {', '.join(f'{a:.3f}' for a in psi)} deg, "
+        f"{m} positions, level {level}"
+    )
+    for k in range(m):
+        t0 = time.perf_counter()
+        pos = solve_position(
+            study, k * pitch / m, comm, level=level, scene_options=opts, store=store
+        )
+        rec = pf.position_record(pos, gs)
+        records.append(rec)
+        forces = ", ".join(f"{p['sun']['transverse_force_N']:.2f}" for p in rec["planets"])
+        say(
+            f"  position {k + 1}/{m}: sun-mesh forces {forces} N, TE {rec['te_um']:.4f} um "
+            f"({time.perf_counter() - t0:.0f} s)"
+        )
+    inp = {
+        "description": base.description,
+        "gearset": gs.name,
+        "zs": sun.teeth,
+        "positions": m,
+        "level": level,
+        "dofs": records[0]["dofs"],
+        "wall_s": float(np.median([r["wall_s"] for r in records])),
+        "planet_angles_given_deg": list(angles) if angles else None,
+        "planet_angles_deg": psi,
+        "largest_snap_deg": snap,
+        "spur_note": note,
+        "r_b_sun_mm": sun.base_radius,
+    }
+    return inp, records
+
+
+def run(args, comm=MPI.COMM_WORLD) -> dict:
+    say = print if comm.rank == 0 else (lambda *_: None)
+    store = BodyStore()
+    data = {"case_inputs": {}, "records": {}}
+    for spec in args.case:
+        name, angles = spec[0], [float(a) for a in spec[1:]]
+        data["case_inputs"][name], data["records"][name] = run_case(
+            name, angles, args, comm, store, say
+        )
+    first = load_study_case(args.case[0][0])
+    gs = first.gearset
+    sun, pin, ring = (gs.gears[g] for g in gs.power_path)
+    data["inputs"] = {
+        "gearset": gs.name,
+        "zs": sun.teeth,
+        "zp": pin.teeth,
+        "zr": ring.teeth,
+        "module": sun.normal_module,
+        "pressure_angle": sun.normal_pressure_angle,
+        "face_width": sun.face_width,
+        "torque_Nm": gs.input_torque,
+        "spur_note": next(iter(data["case_inputs"].values()))["spur_note"],
+        "argv": sys.argv[1:],
+    }
+    return data
+
+
+def parse_args(argv=None) -> argparse.Namespace:
+    ap = argparse.ArgumentParser(
+        prog="python -m studies.phasing",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    ap.add_argument(
+        "--case",
+        action="append",
+        nargs="+",
+        required=True,
+        metavar="NAME [DEG]",
+        help="a study case and optionally its planet angles in deg",
+    )
+    ap.add_argument("--out", type=Path, default=Path("results/phasing"))
+    ap.add_argument("--level", type=int, default=None, help="mesh level (default: the case's)")
+    ap.add_argument(
+        "--positions",
+        type=int,
+        default=None,
+        help="positions over one mesh cycle (default: the case's)",
+    )
+    ap.add_argument(
+        "--spur-helix",
+        type=float,
+        default=0.001,
+        help="helix angle (deg) that stands in for 0 (default 0.001)",
+    )
+    ap.add_argument(
+        "--report-only", action="store_true", help="rewrite report and figures from phasing.json"
+    )
+    ap.add_argument("--traceback", action="store_true", help="print tracebacks (bug reports)")
+    args = ap.parse_args(argv)
+    if args.positions is not None and args.positions < 3:
+        ap.error("--positions: at least 3 (the first harmonic needs 3 samples)")
+    if not 0 < args.spur_helix < 1:
+        ap.error("--spur-helix: a small angle in (0, 1) deg")
+    return args
+
+
+def analyse(data: dict) -> dict:
+    """The harmonic tables of every case from its records (in place; :func:`postprocess.
+    phasing_fe.analyse`), up to the highest harmonic below M / 2."""
+    data["vanish_tol"] = pf.VANISH_TOL
+    data["cases"] = {}
+    for name, inp in data["case_inputs"].items():
+        recs = data["records"][name]
+        l_max = (len(recs) - 1) // 2
+        data["cases"][name] = pf.analyse(
+            recs, inp["zs"], inp["planet_angles_deg"], inp["r_b_sun_mm"], l_max
+        )
+    data["discussion"] = pf.discussion(data)
+    return data
+
+
+def write_outputs(data: dict, out: Path) -> list[Path]:
+    out.mkdir(parents=True, exist_ok=True)
+    analyse(data)
+    write_json(out / "phasing.json", data)
+    atomic_write_text(out / "report.md", pf.report(data))
+    paths = [out / "phasing.json", out / "report.md"]
+    for name, res in data["cases"].items():
+        paths.append(pf.figure_histories(res, name, out / f"{name}_histories.png"))
+        paths.append(pf.figure_harmonics(res, name, out / f"{name}_harmonics.png"))
+    return paths
+
+
+def main(argv=None) -> int:
+    args = parse_args(argv)
+    comm = MPI.COMM_WORLD
+    try:
+        data = read_json(args.out / "phasing.json") if args.report_only else run(args, comm)
+        if comm.rank == 0:
+            for p in write_outputs(data, args.out):
+                print(p)
+    except Exception as exc:  # one line and the pipeline's exit code (studies.cli)
+        if args.traceback:
+            raise
+        print(f"error: {one_line(exc)}", file=sys.stderr)
+        return exit_code(exc)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
