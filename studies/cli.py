@@ -9,6 +9,8 @@ printed only with ``--traceback`` (for a bug report); position failures keep the
 
 from __future__ import annotations
 
+import sys
+
 from cases.gearset import CaseError
 from gears.spec import GeometryError
 from meshing.cache import CacheDirError
@@ -67,3 +69,16 @@ def one_line(exc: BaseException) -> str:
     if isinstance(exc, (*INPUT_ERRORS, ResultFileError, CacheDirError, StudyFailed)):
         return text
     return f"{type(exc).__name__}: {text}"
+
+
+def guarded(body, *, traceback: bool = False) -> int:
+    """Run an entry point's ``body()`` and turn a failure into one line ``error: ...`` on
+    stderr and the pipeline's exit code (with ``traceback``, re-raise for a bug report)."""
+    try:
+        body()
+    except Exception as exc:
+        if traceback:
+            raise
+        print(f"error: {one_line(exc)}", file=sys.stderr)
+        return exit_code(exc)
+    return EXIT_OK

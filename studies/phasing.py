@@ -33,7 +33,7 @@ from cases.study_case import load_study_case
 from gears.analytic import phasing
 from postprocess import phasing_fe as pf
 from solvers.body_store import BodyStore
-from studies.cli import exit_code, one_line
+from studies.cli import guarded
 from studies.files import atomic_write_text, read_json, write_json
 from studies.position import solve_position
 
@@ -227,17 +227,14 @@ def write_outputs(data: dict, out: Path) -> list[Path]:
 def main(argv=None) -> int:
     args = parse_args(argv)
     comm = MPI.COMM_WORLD
-    try:
+
+    def body():
         data = read_json(args.out / "phasing.json") if args.report_only else run(args, comm)
         if comm.rank == 0:
             for p in write_outputs(data, args.out):
                 print(p)
-    except Exception as exc:  # one line and the pipeline's exit code (studies.cli)
-        if args.traceback:
-            raise
-        print(f"error: {one_line(exc)}", file=sys.stderr)
-        return exit_code(exc)
-    return 0
+
+    return guarded(body, traceback=args.traceback)
 
 
 if __name__ == "__main__":

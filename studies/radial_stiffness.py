@@ -36,7 +36,7 @@ from cases.study_case import load_study_case
 from gears.units import n_m
 from postprocess import radial_stiffness_fe as rf
 from solvers.body_store import BodyStore
-from studies.cli import exit_code, one_line
+from studies.cli import guarded
 from studies.files import atomic_write_text, read_json, write_json
 from studies.position import solve_position
 
@@ -305,19 +305,16 @@ def parse_args(argv=None) -> argparse.Namespace:
 def main(argv=None) -> int:
     args = parse_args(argv)
     comm = MPI.COMM_WORLD
-    try:
+
+    def body():
         data = (
             read_json(args.out / "radial_stiffness.json") if args.report_only else run(args, comm)
         )
         if comm.rank == 0:
             for p in write_outputs(data, args.out):
                 print(p)
-    except Exception as exc:  # one line and the pipeline's exit code (studies.cli)
-        if args.traceback:
-            raise
-        print(f"error: {one_line(exc)}", file=sys.stderr)
-        return exit_code(exc)
-    return 0
+
+    return guarded(body, traceback=args.traceback)
 
 
 if __name__ == "__main__":
