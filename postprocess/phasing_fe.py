@@ -387,8 +387,8 @@ def discussion(data: dict) -> list[str]:
             "assemblable angles, "
             + "/".join(f"{a:.2f}" for a in i["planet_angles_deg"])
             + f" deg (moved by at most {i['largest_snap_deg']:.3f} deg), are still opposed pairs."
-            " Without given angles the scene places the fourth planet at 268.57 deg (the nearest "
-            "to equal spacing), which breaks the pairs."
+            " Without given angles the scene places the same paired layout itself "
+            "(gears.analytic.phasing.planet_layout)."
         )
     return out
 

@@ -23,7 +23,9 @@ mesh force waveform if and only if both S- and S+ vanish). The closed-form rules
 
 Assembly: N equally spaced planets fit a single pinion set if (Zs + Zr) / N is an integer,
 a double pinion set if (Zr - Zs) / N is; otherwise planet i can sit only at multiples of
-2 pi / (Zs +- Zr).
+2 pi / (Zs +- Zr). The default layout then (:func:`assemblable_angles`) keeps diametrically
+opposed pairs where the tooth numbers allow them (N and Zs +- Zr even), as parker2000's
+four-planet OH-58 set does.
 """
 
 from __future__ import annotations
@@ -113,11 +115,41 @@ def assembly_number(zs: int, zr: int, n: int, double_pinion: bool = False) -> fl
     return ((zr - zs) if double_pinion else (zs + zr)) / n
 
 
+def assembly_steps(zs: int, zr: int, double_pinion: bool = False) -> int:
+    """S = Zs + Zr (single pinion) or Zr - Zs (double pinion): a planet can sit at the
+    multiples of 2 pi / S only."""
+    return (zr - zs) if double_pinion else (zs + zr)
+
+
+def planet_layout(zs: int, zr: int, n: int, double_pinion: bool = False) -> str:
+    """Which default layout :func:`assemblable_angles` gives: ``"equally spaced"`` (S / N an
+    integer), ``"opposed pairs"`` (N even, S even: pi is S / 2 steps) or ``"nearest to
+    equal spacing"`` (neither: no harmonic is suppressed exactly)."""
+    steps = assembly_steps(zs, zr, double_pinion)
+    if steps % n == 0:
+        return "equally spaced"
+    if n % 2 == 0 and steps % 2 == 0:
+        return "opposed pairs"
+    return "nearest to equal spacing"
+
+
 def assemblable_angles(zs: int, zr: int, n: int, double_pinion: bool = False) -> np.ndarray:
-    """Planet angles (rad) nearest to equal spacing that can be assembled: multiples of
-    2 pi / (Zs + Zr) (single pinion) or 2 pi / (Zr - Zs) (double pinion)."""
-    steps = (zr - zs) if double_pinion else (zs + zr)
-    return 2.0 * math.pi * np.round(np.arange(n) * steps / n) / steps
+    """Default planet angles (rad), multiples of 2 pi / S (:func:`assembly_steps`):
+
+    * S / N an integer: equal spacing, psi_i = 2 pi (i - 1) / N;
+    * else N = 2M even and S even (parker2000's paired-planet layout, e.g. the OH-58 four
+      planets at 0/91.43/180/271.43 deg): planets 1..M nearest to equal spacing,
+      round((i - 1) S / N) steps, and planet M + i diametrically opposite planet i (S / 2
+      steps further), so the opposed-pairs rule holds;
+    * else the nearest to equal spacing, round((i - 1) S / N) steps (no pairs possible).
+    """
+    steps = assembly_steps(zs, zr, double_pinion)
+    if planet_layout(zs, zr, n, double_pinion) == "opposed pairs":
+        half = np.round(np.arange(n // 2) * steps / n)
+        k = np.concatenate([half, half + steps // 2])
+    else:
+        k = np.round(np.arange(n) * steps / n)
+    return 2.0 * math.pi * k / steps
 
 
 def snap_to_assemblable(

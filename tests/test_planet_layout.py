@@ -1,0 +1,57 @@
+"""Default planet angles (gears.analytic.phasing.assemblable_angles) and the all-planet
+scene that uses them: equal spacing when it assembles, else parker2000's paired layout
+(diametrically opposed pairs) when the tooth numbers allow it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cases.gearset import load_gearset
+from gears.analytic import phasing as ph
+from meshing.scenes import build_scene
+
+STEP = 360.0 / 126  # deg, assemblable step of parker2000 (Zs + Zr = 126)
+
+
+def test_parker_four_planets_default_to_opposed_pairs():
+    # 126 / 4 = 31.5: no equal spacing; 126 even: pi = 63 steps, so pairs assemble.
+    psi = ph.assemblable_angles(27, 99, 4)
+    assert ph.planet_layout(27, 99, 4) == "opposed pairs"
+    assert np.degrees(psi) == pytest.approx([0.0, 32 * STEP, 180.0, 95 * STEP], abs=1e-9)
+    assert ph.is_diametrically_opposed(psi)
+    for l in range(1, 13):  # the opposed-pairs rule holds on the default angles
+        odd = l * 27 % 2 == 1
+        assert not ph.is_zero(ph.net_force_amplitude(l, 27, psi), 4) == odd
+        assert not ph.is_zero(ph.net_torque_amplitude(l, 27, psi), 4) == (not odd)
+
+
+@pytest.mark.parametrize(
+    ("zs", "zr", "n", "double", "layout", "steps"),
+    [
+        (27, 99, 3, False, "equally spaced", [0, 42, 84]),
+        (20, 100, 4, False, "equally spaced", [0, 30, 60, 90]),
+        (27, 99, 6, False, "equally spaced", [0, 21, 42, 63, 84, 105]),
+        (35, 92, 3, True, "equally spaced", [0, 19, 38]),
+        (21, 101, 6, False, "opposed pairs", [0, 20, 41, 61, 81, 102]),
+        (35, 86, 3, False, "nearest to equal spacing", [0, 40, 81]),  # N odd
+        (35, 86, 4, False, "nearest to equal spacing", [0, 30, 60, 91]),  # S = 121 odd
+    ],
+)
+def test_default_layouts(zs, zr, n, double, layout, steps):
+    s = ph.assembly_steps(zs, zr, double)
+    psi = ph.assemblable_angles(zs, zr, n, double)
+    assert ph.planet_layout(zs, zr, n, double) == layout
+    assert psi * s / (2 * math.pi) == pytest.approx(steps, abs=1e-9)  # whole steps: assembles
+    assert ph.is_diametrically_opposed(psi) == (layout != "nearest to equal spacing" and n % 2 == 0)
+
+
+def test_four_planet_scene_default_is_paired_and_says_so():
+    sc = build_scene("all_planets", load_gearset("parker2000-4"), 0.0)
+    centres = [sc.gear(p).placement.centre for p in sc.pinion_names]
+    got = np.radians([math.degrees(math.atan2(c[1], c[0])) % 360 for c in centres])
+    assert ph.is_diametrically_opposed(got, tol=1e-9)
+    assert np.degrees(got) == pytest.approx([0.0, 32 * STEP, 180.0, 95 * STEP], abs=1e-9)
+    assert any("opposed pairs" in note for note in sc.notes)
