@@ -21,8 +21,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from postprocess.convergence import convergence_links, plus_minus, uncertainty_note
+from postprocess.stress_tables import contact_section, root_section
+
 CASES = ("1-GA", "1-GB", "1-GC", "1-GB-R")
 MOMENTS = ("Mx_pin", "My_pin", "M_LOA_sun", "M_LOA_ring")
+ROOT_KEYS = ("sun", "pinion_sun_side", "pinion_ring_side", "ring")
 
 
 def _load(results: Path) -> dict[str, dict]:
@@ -53,18 +57,22 @@ def write_report(results: Path) -> Path:
         "MPa. `Table 7 @ FE Z` is the analytical model evaluated with the case's own ZS, ZR;",
         "`Table 3` the concentrated load at mid face width.",
         "",
+        uncertainty_note(runs),
+        "",
         "| case | level | positions | DOFs | ZS | ZR | quantity | FE | Table 7 @ FE Z | diff"
         " | Table 3 | diff |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, s in runs.items():
         head = (f"| {name} | {s['level']} | {len(s['positions'])} | {s['dofs']} | "
-                f"{s['ZS']:+.2f} | {s['ZR']:+.2f} ")  # fmt: skip
+                f"{s['ZS']:+.2f}{plus_minus(s, 'ZS', '.2f')} | "
+                f"{s['ZR']:+.2f}{plus_minus(s, 'ZR', '.2f')} ")  # fmt: skip
         for i, q in enumerate(MOMENTS):
             at_z, conc = s["analytic"]["at_fe_ZS_ZR"][q], s["analytic"]["concentrated"][q]
             first = head if i == 0 else "| | | | | | "
             lines.append(
-                f"{first}| {q} | {s[q]:.1f} | {at_z:.1f} | {_pct(s[q], at_z)} | {conc:.1f} | "
+                f"{first}| {q} | {s[q]:.1f}{plus_minus(s, q)} | {at_z:.1f} | "
+                f"{_pct(s[q], at_z)} | {conc:.1f} | "
                 f"{_pct(s[q], conc)} |"
             )
     lines += [
@@ -74,10 +82,8 @@ def write_report(results: Path) -> Path:
         "Contact stress: Hertz line contact with the exact normal-plane curvatures at each grid",
         "point and the FE line load there; `peak` is the largest over the grid (it sits at line",
         "ends: tip and face corners, no relief modelled), `mean` the mean over loaded points.",
-        "Root stress: largest tensile principal stress of the P1 cells on the fillets of the",
-        "loaded teeth (a mesh-dependent lower estimate of the fillet peak), FE / ISO 6336-3",
-        "method B nominal (all K factors 1, Y_beta of the 2006 edition; the ring is internal",
-        "and has no ISO value here).",
+        "Root stress: FE fillet-surface maximum over the mesh cycle / ISO 6336-3 method B",
+        "nominal (details and the contact cross-check in the two sections below).",
         "",
         "| case | contact sun-pinion peak / mean | contact pinion-ring peak / mean | root sun"
         " | root pinion (sun side) | root pinion (ring side) | root ring |",
@@ -95,6 +101,11 @@ def write_report(results: Path) -> Path:
             f"| {name} | {c['sun_pinion']:.0f} / {m['sun_pinion']:.0f} | "
             f"{c['pinion_ring']:.0f} / {m['pinion_ring']:.0f} | " + " | ".join(root) + " |"
         )
+    lines += ["", *contact_section(runs, ("sun_pinion", "pinion_ring"), list(runs))]
+    lines += ["", *root_section(runs, ROOT_KEYS, list(runs))]
+    conv = convergence_links(runs, out)
+    if conv:
+        lines += ["", "## Discretisation error (convergence study)", "", *conv]
     lines += ["", "## Trends against the paper (section 7)", ""]
     lines += _trends(runs)
     lines += ["", "## Plots", "", "![moments](moments_vs_tilt.png)", "",

@@ -44,6 +44,8 @@ from gears.analytic.planetary import (
     double_pinion_geometry,
 )
 from gears.spec import GearSpec
+from postprocess.convergence import convergence_links, plus_minus, uncertainty_note
+from postprocess.stress_tables import contact_section, root_section
 
 #: the four LOA moments (issue-12 names), with the mesh and the pinion each belongs to
 LOA = (
@@ -177,7 +179,8 @@ def _moments_section(runs: dict, ref: dict) -> list[str]:
             lo, hi = _range(s, key)
             t5 = _t5(ref, "2-B", key)
             row = (
-                f"| {name if i == 0 else ''} | {key} ({what}) | {s[key]:.1f} | {lo:.1f} .. "
+                f"| {name if i == 0 else ''} | {key} ({what}) | {s[key]:.1f}{plus_minus(s, key)} | "
+                f"{lo:.1f} .. "
                 f"{hi:.1f} | {at[key]:.1f} | {_pct(s[key], at[key])} | {t5:.1f} | "
                 f"{_pct(s[key], t5)} |"
             )
@@ -187,7 +190,8 @@ def _moments_section(runs: dict, ref: dict) -> list[str]:
         lo, hi = _range(s, "M_LOA_SPRP_diff")
         d_t5 = _t5(ref, "2-B", "M_LOA_SP_RP") + _t5(ref, "2-B", "M_LOA_RP_SP")
         row = (
-            f"| | SP-RP differential M_LOA_SP_RP + M_LOA_RP_SP | {s['M_LOA_SPRP_diff']:.1f} | "
+            f"| | SP-RP differential M_LOA_SP_RP + M_LOA_RP_SP | {s['M_LOA_SPRP_diff']:.1f}"
+            f"{plus_minus(s, 'M_LOA_SPRP_diff')} | "
             f"{lo:.1f} .. {hi:.1f} | {at['M_LOA_SPRP_diff']:.1f} | - | {d_t5:.1f} | - |"
         )
         if pr:
@@ -222,8 +226,9 @@ def _pinion_section(runs: dict, ref: dict) -> list[str]:
             tx5, ty5 = _t5(ref, "2-B", f"Mx_{pn}"), _t5(ref, "2-B", f"My_{pn}")
             printed_txt = f" ({pr['2-B'][f'Mx_{pn}']}, {pr['2-B'][f'My_{pn}']})" if pr else ""
             lines.append(
-                f"| {name if pn == 'SP' else ''} | {pn} | {mx:.1f} | {at[f'Mx_{pn}']:.1f} | "
-                f"{tx5:.1f} | {my:.1f} | {at[f'My_{pn}']:.1f} | {ty5:.1f}{printed_txt} | "
+                f"| {name if pn == 'SP' else ''} | {pn} | {mx:.1f}{plus_minus(s, f'Mx_{pn}')} | "
+                f"{at[f'Mx_{pn}']:.1f} | {tx5:.1f} | {my:.1f}{plus_minus(s, f'My_{pn}')} | "
+                f"{at[f'My_{pn}']:.1f} | {ty5:.1f}{printed_txt} | "
                 f"{math.hypot(mx, my):.1f} / {math.hypot(tx5, ty5):.1f} | {f[0]:+.0f}, "
                 f"{f[1]:+.0f} | {math.hypot(f[0], f[1]):.0f} | {tilt[0] * 1e6:+.1f}, "
                 f"{tilt[1] * 1e6:+.1f} |"
@@ -253,11 +258,13 @@ def _centroid_section(runs: dict, singles: dict) -> list[str]:
         s = runs[name]
         off = s["mesh_offsets_mm"]
         zs = " | ".join(
-            f"{off[z]:+.2f} ({_range(s, q)[0]:+.2f} .. {_range(s, q)[1]:+.2f})"
+            f"{off[z]:+.2f}{plus_minus(s, q, '.2f')} ({_range(s, q)[0]:+.2f} .. "
+            f"{_range(s, q)[1]:+.2f})"
             for (_, _, z, _), q in zip(SIDES[:2] + SIDES[3:], ("ZS", "Z_SPRP", "ZR"), strict=True)
         )
         ss = " | ".join(f"{off[o]:+.2f}" for _, _, _, o in SIDES)
-        lines.append(f"| {name} | {zs} | {ss} | {s['f_ma_SPRP_um']:+.2f} |")
+        fma = f"{s['f_ma_SPRP_um']:+.2f}{plus_minus(s, 'f_ma_SPRP_um', '.2f')}"
+        lines.append(f"| {name} | {zs} | {ss} | {fma} |")
     lines += ["", "Brackets: the range over the mesh positions."]
     trends = _trends(runs, singles)
     if trends:
@@ -349,23 +356,8 @@ def _stress_section(runs: dict) -> list[str]:
                 f"{c['interior_p_max_MPa']:.0f} | {c['edge_p_max_MPa']:.0f} | "
                 f"{c['K_Hbeta']:.2f} | {c['sigma_H0_MPa']:.0f} | {c['sigma_H_MPa']:.0f} |"
             )
-    lines += [
-        "",
-        "Root: the largest tensile principal stress of the P1 cells on the fillets of the",
-        "loaded teeth (a mesh-dependent lower estimate of the fillet peak) / ISO 6336-3",
-        "method B nominal (K factors 1; the ring is internal and has no ISO value here).",
-        "",
-        "| case | " + " | ".join(r.replace("_", " ") for r in ROOTS) + " |",
-        "|---|" + "---|" * len(ROOTS),
-    ]
-    for name in _ordered(runs):
-        fe = runs[name]["bending_stress"] or {}
-        iso = runs[name]["bending_stress_iso6336_nominal"]
-        cells = []
-        for k in ROOTS:
-            a, b = fe.get(k), iso.get(k)
-            cells.append(f"{a:.0f} / {b:.0f}" if a and b else (f"{a:.0f} / -" if a else "-"))
-        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    lines += ["", *contact_section(runs, CONTACTS, _ordered(runs))]
+    lines += ["", *root_section(runs, ROOTS, _ordered(runs))]
     names = _ordered(runs)
     if len(names) >= 2:
         a, b = runs[names[0]], runs[names[-1]]
@@ -809,7 +801,7 @@ def write_report(
             f"| {name} | {_label(s)} | {s['scene']} | {s['level']} | {s['degree']} | "
             f"{len(s['positions'])} | {s['dofs']} | {s['wall_time_s']:.0f} |"
         )
-    lines += [""]
+    lines += ["", uncertainty_note(runs), ""]
     lines += _moments_section(runs, ref)
     lines += _pinion_section(runs, ref)
     lines += _centroid_section(runs, singles)
@@ -817,6 +809,9 @@ def write_report(
     lines += _fig6_section(runs, ref)
     lines += _case_2a_section(ref)
     lines += _stress_section(runs)
+    conv = convergence_links(runs, out)
+    if conv:
+        lines += ["", "## Discretisation error (convergence study)", "", *conv]
     lines += _patterns_section(runs, results, out)
     _fig6(runs, ref, out / "fig6_fe.png")
     _differential_plot(runs, ref, out / "sp_rp_differential.png")

@@ -18,9 +18,10 @@ pitch point sigma_H0 (:func:`gears.contact_stress.iso6336_pitch_contact_stress`)
 sqrt(K_Hbeta) is ISO's contact stress with that face load factor (the other factors 1), to
 set beside the FE interior maximum.
 
-Root stress (:func:`iso_nominal_root_stress`): ISO 6336-3 method B nominal stress (all K
-factors 1) of every external gear at every mesh it takes part in, keyed as the FE root
-stress (:func:`gears.train.mesh_side_keys`); internal gears get None (not covered).
+Root stress (:func:`iso_nominal_root_stress`, :func:`iso_root_stress_factors`): ISO 6336-3
+method B nominal stress (all K factors 1, Y_beta of the 2006 edition, the 2019 form beside
+it) of every gear at every mesh it takes part in, internal gears by ISO's substitute rack,
+keyed as the FE root stress (:func:`gears.train.mesh_side_keys`).
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ import numpy as np
 
 from gears import contact_stress
 from gears.involute import roll_length
-from gears.iso6336_root import nominal_root_stress
+from gears.iso6336_root import fillet_tangent_point, nominal_root_stress
 from gears.train import mesh_side_keys
 from gears.units import n_m, n_mm
 
@@ -67,21 +68,38 @@ def driver_torques(gearset) -> dict[tuple[str, str], float]:
     return out
 
 
-def iso_nominal_root_stress(gearset) -> dict:
-    """ISO 6336-3 method B nominal root stress (MPa) per gear and mesh for the sun torque of
-    one branch; the torque on each mesh's driver follows the tooth ratios along the path
-    (:func:`driver_torques`)."""
+ISO_ROOT_KEYS = ("Y_F", "Y_S", "Y_beta", "s_Fn", "rho_F", "h_Fe", "x_E", "q_s", "F_t", "b")
+
+
+def iso_root_stress_factors(gearset) -> dict:
+    """Per gear and mesh (keys of :func:`gears.train.mesh_side_keys`) the ISO 6336-3 method B
+    nominal root stress for the sun torque of one branch (the torque on each mesh's driver
+    follows the tooth ratios along the path, :func:`driver_torques`), external and internal
+    gears: ``sigma_F0`` (MPa, Y_beta of the 2006 edition), ``sigma_F0_Ybeta2019`` (the same
+    with the 2019 edition's Y_beta), ``edition`` (2006), ``internal``, the factors
+    ``ISO_ROOT_KEYS`` (:func:`gears.iso6336_root.nominal_root_stress`) and the chord and
+    radius of curvature at ISO's critical point of the generated transverse fillet
+    (``s_Fn_generated``, ``rho_F_generated``, :func:`gears.iso6336_root.fillet_tangent_point`)."""
     meshes = [(m.gear1, m.gear2) for m in gearset.meshes]
     driver_torque = driver_torques(gearset)
     out = {}
     for key, gear, mate, i in mesh_side_keys(meshes):
         a, b = (gear, mate) if i == 1 else (mate, gear)
         pair = gearset.pair(a, b)
-        if gearset.gears[gear].internal:
-            out[key] = None
-            continue
-        out[key] = nominal_root_stress(pair, i, driver_torque[(a, b)])["sigma_F0"]
+        r = nominal_root_stress(pair, i, driver_torque[(a, b)])
+        r19 = nominal_root_stress(pair, i, driver_torque[(a, b)], edition=2019)
+        ex = fillet_tangent_point(pair.gear(i))
+        out[key] = {"sigma_F0": r["sigma_F0"], "sigma_F0_Ybeta2019": r19["sigma_F0"],
+                    "edition": r["edition"], "internal": pair.gear(i).internal,
+                    **{k: r[k] for k in ISO_ROOT_KEYS},
+                    "rho_F_generated": ex["rho_F"], "s_Fn_generated": ex["s_Fn"]}  # fmt: skip
     return out
+
+
+def iso_nominal_root_stress(gearset) -> dict:
+    """ISO 6336-3 method B nominal root stress sigma_F0 (MPa, Y_beta 2006) per gear and
+    mesh, internal gears included (:func:`iso_root_stress_factors`)."""
+    return {k: v["sigma_F0"] for k, v in iso_root_stress_factors(gearset).items()}
 
 
 def _centre(pos: dict, body: str) -> np.ndarray:
@@ -157,7 +175,14 @@ def contact_stress_cycle(gearset, material, positions: list[dict]) -> dict:
       sun torque of one branch (:func:`driver_torques`, ``iso_driver_torque_Nm``), b the
       smaller face width; K_A = K_v = K_Halpha = 1 and Z_B = Z_D = 1 (single pair contact
       factors not applied); ``sigma_H_MPa`` = sigma_H0 sqrt(K_Hbeta), ISO's stress with the FE
-      face load factor, beside ``interior_p_max_MPa``; ``iso_factors``: Z_H, Z_E, Z_eps, Z_beta.
+      face load factor, beside ``interior_p_max_MPa``; ``iso_factors``: Z_H, Z_E, Z_eps, Z_beta;
+    * Hertz at the pitch point (s = 0) under a uniform line load, the cross-check between
+      the two: ``hertz_pitch_w_mean_MPa`` and ``hertz_pitch_w_max_MPa`` under the FE mean and
+      largest interior line load, ``hertz_pitch_w_nominal_mean_MPa`` under ISO's mean load
+      per contact length ``w_nominal_mean_N_per_mm`` = F_t / (b cos(alpha_wt) eps_alpha)
+      (:func:`gears.contact_stress.nominal_line_load`, "mean"), which equals sigma_H0 /
+      Z_beta for eps_beta >= 1 (the normal-plane curvature at C holds the cos(beta_b)
+      ISO's Z_H carries).
     """
     steel = (material.gear_youngs_modulus, material.poisson_ratio)
     hz = [contact_stress_at_points(gearset, material, p) for p in positions]
@@ -197,7 +222,14 @@ def contact_stress_cycle(gearset, material, positions: list[dict]) -> dict:
             "sigma_H_MPa": iso["sigma_H0"] * math.sqrt(k_hb) if w_mean > 0.0 else None,
             "iso_driver_torque_Nm": float(n_m(torques[(a, b)])),
             "iso_factors": {k: iso[k] for k in ("Z_H", "Z_E", "Z_eps", "Z_beta")},
+            "w_nominal_mean_N_per_mm": contact_stress.nominal_line_load(
+                gearset.pair(a, b), torques[(a, b)], "mean"
+            ),
         }
+        for name_w, w_ in (("w_mean", w_mean), ("w_max", w_max), ("w_nominal_mean",
+                           rec["w_nominal_mean_N_per_mm"])):  # fmt: skip
+            hz_c = contact_stress.mesh_contact(gearset.pair(a, b), 0.0, w_, steel, steel)
+            rec[f"hertz_pitch_{name_w}_MPa"] = float(hz_c.p_max)
         for kind in ("interior", "edge"):
             val, at = best[kind]
             rec[f"{kind}_p_max_MPa"] = max(val, 0.0) if at else None

@@ -5,7 +5,8 @@
 Reads only what the study wrote under ``results``: the analytic study (``analytic/
 tables.json``, ``report.md``, figures), every case report (``*/report.md``), every case
 summary (``*/summary.json`` and ``*/*/summary.json``: the one-branch cases and those of a
-system-scene folder), the benchmarks (``bench/*.json``) and the wall time of the last full
+system-scene folder), the benchmarks (``bench/*.json``), the convergence studies
+(``convergence/*/convergence.json``) and the wall time of the last full
 ``make`` (``bench/make_all.json``, :func:`record_wall_time`). It links every case report
 and picture, gives one row per case with its headline numbers (so a case file of one's own,
 run with ``make study``, has its section too), checks the paper's stated trends on the
@@ -23,6 +24,7 @@ import time
 from pathlib import Path
 
 from gears.analytic import printed
+from postprocess.convergence import plus_minus
 
 #: the goal of issue 12 for the whole ``make`` on 2 cores at the default level
 GOAL_WALL_S = 20 * 60.0
@@ -189,7 +191,9 @@ def _cases_section(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
         "One row per `summary.json` under `results/`: means over the mesh positions; moments N m",
         "(pinion frames of singh2007), offsets mm from mid face width, stresses MPa (contact:",
         "largest interior Hertz stress over the mesh cycle, which grows as the square root of",
-        "the gears' modulus; root: largest FE fillet stress).",
+        "the gears' modulus; root: largest FE fillet stress). ±: the discretisation",
+        "uncertainty at the case's level from the convergence study of its gear set (`make",
+        "convergence`; see Convergence below); none where no study matches.",
         "",
     ]
     single = [(f, s) for f, s in runs if s["inputs"]["gearset"]["kind"] == "single_pinion"]
@@ -226,6 +230,11 @@ def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
     cyc = s.get("contact_stress_cycle") or {}
     contact = _max(c.get("interior_p_max_MPa") for c in cyc.values())
     root = _max(v for k, v in (s.get("bending_stress") or {}).items() if k != "locations")
+    # the keys of the two maxima, for their uncertainty
+    c_key = next((f"contact_stress_cycle.{m}.interior_p_max_MPa" for m, c in cyc.items()
+                  if contact and c.get("interior_p_max_MPa") == contact), "")  # fmt: skip
+    r_key = next((f"bending_stress.{k}" for k, v in (s.get("bending_stress") or {}).items()
+                  if root and v == root), "")  # fmt: skip
     pics = ", ".join(
         _link(folder / p, results, p.removesuffix(".png").split("_")[0])
         for p in PICTURES
@@ -240,10 +249,10 @@ def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
         str(s["level"]),
         str(len(s["positions"])),
         str(s.get("dofs", "-")),
-        *(f"{s[k]:.1f}" if k in s else "-" for k in moments),
-        *(f"{s[k]:+.2f}" if k in s else "-" for k in offsets),
-        f"{contact:.0f}" if contact else "-",
-        f"{root:.0f}" if root else "-",
+        *(f"{s[k]:.1f}{plus_minus(s, k)}" if k in s else "-" for k in moments),
+        *(f"{s[k]:+.2f}{plus_minus(s, k, '.2f')}" if k in s else "-" for k in offsets),
+        f"{contact:.0f}{plus_minus(s, c_key, '.0f')}" if contact else "-",
+        f"{root:.0f}{plus_minus(s, r_key, '.0f')}" if root else "-",
         pics or "-",
     ]
     return "| " + " | ".join(cells) + " |"
@@ -323,6 +332,26 @@ def _trends_section(runs: list[tuple[Path, dict]]) -> list[str]:
     return [*lines, ""]
 
 
+def _convergence_lines(results: Path) -> list[str]:
+    """One line per convergence study (``convergence/<case>/convergence.json``): its
+    recommendation and a link to its report and chart."""
+    lines = []
+    for path in sorted((results / "convergence").glob("*/convergence.json")):
+        c = _json(path)
+        if not c or "recommendation" not in c:
+            continue
+        runs = ", ".join(c.get("labels", [])) or "none finished"
+        lines += [
+            f"Convergence, {_link(path.parent / 'report.md', results, c['case'])} (runs "
+            f"{runs}; {c.get('positions', '?')} position): {c['recommendation']['note']}.",
+            "",
+        ]
+        png = path.parent / "speed_error.png"
+        if png.is_file():
+            lines += [_image(png, results, f"{c['case']} speed against error"), ""]
+    return lines
+
+
 def _bench_section(results: Path) -> list[str]:
     bench = results / "bench"
     lines = ["## Speed against error", ""]
@@ -363,6 +392,8 @@ def _bench_section(results: Path) -> list[str]:
         if png.is_file():
             lines += ["", _image(png, results, path.stem)]
         lines.append("")
+    lines += _convergence_lines(results)
+    rows_found = rows_found or (results / "convergence").is_dir()
     study = _json(bench / "study.json")
     if study:
         rows_found = True

@@ -6,7 +6,8 @@ mean-over-loaded-points Hertz contact stress of every mesh (:func:`postprocess.m
 contact_stress_at_points`; the peak sits at line ends: tip and face corners, no relief;
 interior: :func:`postprocess.mesh_stress.edge_points`), the active points, the FE root stress
 and the wall time. The summary (:func:`summarise`) holds the means over the positions at the
-top level, the closed-form reference of the kind, the ISO 6336-3 nominal root stress, the
+top level, the FE root stress as the maximum over the mesh cycle (:func:`cycle_bending`),
+the closed-form reference of the kind, the ISO 6336-3 nominal root stress, the
 per-position records, the failed positions, and ``inputs`` / ``provenance``: everything that
 produced it, so a report never re-reads a case file.
 
@@ -42,7 +43,7 @@ from postprocess.mesh_stress import (
     contact_stress_at_points,
     contact_stress_cycle,
     edge_points,
-    iso_nominal_root_stress,
+    iso_root_stress_factors,
 )
 from postprocess.paper_moments import MEAN_KEYS, with_loa_aliases
 from postprocess.train_results import coast_summary
@@ -79,17 +80,52 @@ def position_record(study, pos: dict) -> dict:
     return rec
 
 
-def _mean_bending(records: list[dict]) -> dict | None:
-    """Mean over the positions of each FE root stress entry (MPa); an entry missing at a
-    position (no fillet cell) is left out of its mean."""
-    recs = [r["bending_stress"] for r in records if r.get("bending_stress")]
+def cycle_bending(records: list[dict]) -> dict:
+    """FE root stress over the mesh cycle: per key the maximum over the positions of the
+    surface value (``bending_stress``), of the value on ISO's 30 / 60 deg line
+    (``bending_stress_tangent``), of the largest P1 cell value (``bending_stress_cell``) and
+    of the surface value within one element of a face end (``bending_stress_face_end``),
+    and where the surface maximum sits (``bending_stress_at``: position index, roll, tooth,
+    side, z); scenes with several planets also ``bending_stress_set``, the largest surface
+    value per gear-set key (the keys of ISO's nominal stress). An entry missing at a
+    position (no fillet) is left out of its maximum; None where no position has it
+    (:mod:`solvers.root_stress`)."""
+    recs = [(j, r) for j, r in enumerate(records) if r.get("bending_stress")]
+    out: dict = {"bending_stress": None, "bending_stress_tangent": None,
+                 "bending_stress_cell": None, "bending_stress_face_end": None,
+                 "bending_stress_at": None}  # fmt: skip
     if not recs:
-        return None
-    keys = [k for k in recs[0] if k != "locations"]
-    out = {}
-    for k in keys:
-        vals = [r[k] for r in recs if r.get(k) is not None]
-        out[k] = float(np.mean(vals)) if vals else None
+        return out
+    keys = [k for k, v in recs[0][1]["bending_stress"].items() if not isinstance(v, (dict, str))]
+
+    def best(get):
+        vals = {k: [(v, j) for j, r in recs if (v := get(r["bending_stress"], k)) is not None]
+                for k in keys}  # fmt: skip
+        return {k: max(v)[0] if v else None for k, v in vals.items()}, {
+            k: max(v)[1] if v else None for k, v in vals.items()
+        }
+
+    out["bending_stress"], where = best(lambda b, k: b.get(k))
+    out["bending_stress_tangent"], _ = best(lambda b, k: (b.get("tangent") or {}).get(k))
+    out["bending_stress_cell"], _ = best(lambda b, k: (b.get("cell_max") or {}).get(k))
+    out["bending_stress_face_end"], _ = best(lambda b, k: (b.get("face_end") or {}).get(k))
+    at = {}
+    for k, j in where.items():
+        if j is None:
+            at[k] = None
+            continue
+        loc = (records[j]["bending_stress"].get("locations") or {}).get(k) or {}
+        at[k] = {"position": j, "roll": records[j].get("roll")}
+        at[k].update({q: loc.get(q) for q in ("tooth", "side", "z_mm")})
+    out["bending_stress_at"] = at
+    locs = recs[0][1]["bending_stress"].get("locations") or {}
+    to_set = {k: (locs.get(k) or {}).get("set_key", k) for k in keys}
+    if any(k != v for k, v in to_set.items()):  # several planets: the largest per gear-set key
+        by_set: dict = {}
+        for k, v in out["bending_stress"].items():
+            if v is not None:
+                by_set[to_set[k]] = max(by_set.get(to_set[k], v), v)
+        out["bending_stress_set"] = by_set
     return out
 
 
@@ -208,8 +244,10 @@ def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
         if "branches" in solved[0]:
             summary.update(_system_means(study, solved))
     summary["coast"] = coast_summary(solved)  # smallest coast gap, coast load (None: no grids)
-    summary["bending_stress"] = _mean_bending(records)  # FE fillet stress, mean over positions
-    summary["bending_stress_iso6336_nominal"] = iso_nominal_root_stress(study.gearset)
+    summary.update(cycle_bending(records))  # FE fillet stress, maximum over the mesh cycle
+    iso = iso_root_stress_factors(study.gearset)
+    summary["bending_stress_iso6336_nominal"] = {k: v and v["sigma_F0"] for k, v in iso.items()}
+    summary["bending_stress_iso6336"] = iso
     summary["positions"] = records
     summary["failed_positions"] = failed
     return summary

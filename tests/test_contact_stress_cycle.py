@@ -126,6 +126,29 @@ def test_interior_and_edge_maxima_over_the_cycle(cycle):
     assert pr["sigma_H_MPa"] == pytest.approx(pr["sigma_H0_MPa"], rel=1e-12)
 
 
+def test_hertz_at_the_pitch_point_cross_checks_iso(cycle):
+    """Hertz at the pitch point under a uniform line load: under ISO's mean load per contact
+    length it is sigma_H0 / Z_beta (eps_beta = 2.08 >= 1, the identity of
+    gears.contact_stress.iso6336_pitch_contact_stress, to round-off); under the FE mean and
+    largest interior loads it scales as sqrt(w), so their ratio is sqrt(K_Hbeta)."""
+    study, positions, _ = cycle
+    res = contact_stress_cycle(study.gearset, study.material, positions)
+    for c in res.values():
+        z_b = c["iso_factors"]["Z_beta"]
+        assert c["hertz_pitch_w_nominal_mean_MPa"] * z_b == pytest.approx(
+            c["sigma_H0_MPa"], rel=1e-12
+        )
+        assert c["hertz_pitch_w_max_MPa"] / c["hertz_pitch_w_mean_MPa"] == pytest.approx(
+            math.sqrt(c["K_Hbeta"]), rel=1e-12
+        )
+    # the synthetic ring mesh carries W_BASE everywhere: Hertz at C under W_BASE
+    pr = res["pinion-ring"]
+    pair = study.gearset.pair("pinion", "ring")
+    steel = (study.material.gear_youngs_modulus, study.material.poisson_ratio)
+    want = float(mesh_contact(pair, 0.0, W_BASE, steel, steel).p_max)
+    assert pr["hertz_pitch_w_mean_MPa"] == pytest.approx(want, rel=1e-12)
+
+
 def test_line_ends_and_tip_form_points(cycle):
     study, positions, _ = cycle
     pos = positions[0]

@@ -235,21 +235,23 @@ def test_root_stress_at_loaded_fillets(ga):
     virtual spur gear, with Y_beta for the load sharing along the helical contact lines; the
     FE value is the largest P1 cell (midpoint) stress over the fillet cells at level 0
     (about 3 elements across the fillet), which averages the steep surface gradient and
-    underestimates the peak (FE below ISO). Measured at roll 0: FE / ISO = 0.76 (sun), 0.73
-    (pinion, sun side), 0.70 (pinion, ring side); over the positions at level 1 0.71-0.80
-    (README). The band is the measured spread with about 0.1 either side, narrow enough that
-    a 35 % bias of either value leaves it (0.70 x 1.35 = 0.95, 0.76 / 1.35 = 0.56).
-    The ring (internal, no ISO value here) has thicker teeth at the root than the pinion it
-    meshes with, under the same mesh force: its root stress is lower (measured 335 MPa
-    against 480 MPa).
+    underestimates the peak (FE below ISO). Measured at roll 0 (ISO with the tooth thickness
+    allowance): FE / ISO = 0.66 (sun), 0.71 (pinion, sun side), 0.68 (pinion, ring side).
+    The band is the measured spread with about 0.1 either side, narrow enough that a 35 %
+    bias of either value leaves it (0.71 x 1.35 = 0.96, 0.66 / 1.35 = 0.49).
+    The ring (internal) has thicker teeth at the root than the pinion it
+    meshes with, under the same mesh force: its root stress is lower (measured 355 MPa
+    against 484 MPa).
     """
     bs = ga["bending_stress"]
     sides = {"sun": "pos", "pinion_sun_side": "pos", "pinion_ring_side": "neg", "ring": "pos"}
     for key, side in sides.items():
         loc = bs["locations"][key]
         assert loc["side"] == side, key
-        assert loc["tooth"] in loc["teeth"] and abs(loc["z_mm"]) <= 14.5 + 1e-9
+        assert loc["tooth"] in loc["teeth"] and abs(loc["z_mm"]) <= 16.175 + 1e-9
+    # the P1 cell values (bs["cell_max"]); the surface values: tests/test_root_stress_fe.py
+    cell = bs["cell_max"]
     iso = iso_nominal_root_stress(load_study_case("1-GA").gearset)
     for key in ("sun", "pinion_sun_side", "pinion_ring_side"):
-        assert 0.6 < bs[key] / iso[key] < 0.9, (key, bs[key], iso[key])
-    assert bs["ring"] < bs["pinion_ring_side"]
+        assert 0.6 < cell[key] / iso[key] < 0.9, (key, cell[key], iso[key])
+    assert cell["ring"] < cell["pinion_ring_side"]

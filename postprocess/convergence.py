@@ -1,0 +1,389 @@
+"""Discretisation error of a scalar from a mesh ladder: Richardson extrapolation with the
+observed order and Roache's grid convergence index (GCI), for three grids of any ratios.
+
+Three solutions f1, f2, f3 on grids of size h1 < h2 < h3 (fine, medium, coarse), assumed in
+the asymptotic range f(h) = f_ext + C h^p (Celik et al. 2008, J. Fluids Eng. 130 078001,
+the generalised form for ratios r21 = h2/h1, r32 = h3/h2 that differ):
+
+    e21 = f2 - f1,  e32 = f3 - f2,  R = e32 / e21
+    R = r21^p (r32^p - 1) / (r21^p - 1)           (solved for p; r^p for a constant ratio r)
+    f_ext = f1 - e21 / (r21^p - 1) = (r21^p f1 - f2) / (r21^p - 1)
+    GCI_k = Fs |f_k - f_ext| / |f_k|,  Fs = 1.25  (the uncertainty of level k; for the fine
+            grid this is Roache's GCI_fine = Fs |e21 / f1| / (r21^p - 1))
+
+The observed order p is what the data say; the GCI uses min(p, p_cap) when a cap is given
+(Roache: an observed order above the formal one is not trusted, the smaller order is the
+conservative one). When the three grids do not converge monotonically there is no
+extrapolation, and the uncertainty of every level falls back to the spread of the levels,
+(max f - min f) / |f_k|, with the status saying why (:func:`richardson`):
+
+* ``mesh-independent``: the three values agree to round-off (an input, not an FE result);
+* ``oscillatory``: e21 and e32 differ in sign;
+* ``divergent``: the changes grow as the grid is refined (p <= 0);
+* ``stagnant``: they barely shrink (0 < p < P_MIN): r^p - 1 < 0.2 for these ratios, so an
+  extrapolation would multiply the last change by more than five, more than three grids
+  support.
+
+A run off the ladder (another degree, e.g. P2 at the coarsest level) is compared with the
+extrapolated value in the same way (:func:`off_ladder`).
+
+Summaries (:func:`summary_scalars`): every reported scalar of a ``summary.json`` by a dotted
+key (``My_pin``, ``bending_stress.sun``, ``contact_stress_cycle.sun_pinion.p_max_MPa``): the
+top-level scalars of the gear-set kind and every float under a top-level entry whose name
+holds ``stress`` (not the ISO closed forms, not where a maximum sits); whatever keys the
+summary has, so new stress entries are picked up.
+:func:`uncertainty_for` turns a convergence study into a summary's ``uncertainty`` entry,
+:func:`plus_minus` prints it beside a value.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from postprocess.paper_moments import MEAN_KEYS
+
+SAFETY = 1.25  # Roache's factor of safety for a three-grid study with the observed order
+P_MIN = 0.5  # below: stagnant (see the module docstring)
+P_BOUNDS = (-10.0, 20.0)  # the observed order is searched in here
+SAME_RTOL = 1e-9  # three values within this (relative) are mesh-independent
+
+MOMENT_RTOL = 0.01  # issue 13: moments within 1 % of the extrapolated value
+STRESS_RTOL = 0.05  # and stresses within 5 %
+# A relative error is given only where the value is above this fraction of the largest
+# value of its kind (Mz_pin of a pinion free to spin is round-off, not a moment to quote).
+NEAR_ZERO = 1e-3
+# Entries under a stress group that are not discretisation results: where a maximum sits,
+# counts, ISO factors, the torque ISO is evaluated at.
+_SKIP_PARTS = ("locations", "iso_factors", "iso_driver_torque_Nm")
+_SKIP_SUFFIXES = ("_at",)
+
+
+@dataclass(frozen=True)
+class Richardson:
+    """The convergence of one scalar over three grids (values per grid as given: same
+    order as the ``h`` and ``f`` passed to :func:`richardson`)."""
+
+    status: str  # monotone, oscillatory, divergent, stagnant, mesh-independent
+    order: float | None  # observed order p (None unless solved)
+    extrapolated: float | None  # f_ext (None unless monotone)
+    rel_error: tuple[float | None, ...]  # (f_k - f_ext) / |f_ext| per grid
+    uncertainty: tuple[float | None, ...]  # relative, per grid (GCI or spread)
+    uncertainty_abs: tuple[float, ...]  # the same in the scalar's unit
+    gci_order: float | None  # the order the GCI used: min(p, p_cap)
+    note: str  # one line: what was done and why
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def _ratio_function(p: float, r21: float, r32: float) -> float:
+    """ln F(p), F(p) = r21^p (r32^p - 1) / (r21^p - 1); F(0) = ln r32 / ln r21 (the limit)."""
+    a, b = math.log(r21), math.log(r32)
+    if abs(p) < 1e-12:
+        return math.log(b / a)
+    return p * a + math.log(math.expm1(p * b) / math.expm1(p * a))
+
+
+def observed_order(r21: float, r32: float, ratio: float) -> float:
+    """The p with r21^p (r32^p - 1) / (r21^p - 1) = ``ratio`` (= e32 / e21 > 0), by
+    bisection on its logarithm (monotone in p); clipped to :data:`P_BOUNDS`. For a constant
+    ratio r this is ln(ratio) / ln r."""
+    if not (r21 > 1.0 and r32 > 1.0 and ratio > 0.0):
+        raise ValueError(
+            f"observed_order needs r21, r32 > 1 and ratio > 0, got {r21}, {r32}, {ratio}"
+        )
+    target = math.log(ratio)
+    lo, hi = P_BOUNDS
+    if _ratio_function(lo, r21, r32) >= target:
+        return lo
+    if _ratio_function(hi, r21, r32) <= target:
+        return hi
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if _ratio_function(mid, r21, r32) < target:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-12:
+            break
+    return 0.5 * (lo + hi)
+
+
+def _rel(num: float, den: float) -> float | None:
+    return abs(num) / abs(den) if den != 0.0 else None
+
+
+def richardson(
+    h: Sequence[float],
+    f: Sequence[float],
+    *,
+    safety: float = SAFETY,
+    p_cap: float | None = None,
+    zero_scale: float = 0.0,
+) -> Richardson:
+    """Richardson extrapolation and GCI of three values ``f`` on grids of size ``h`` (any
+    order, all different; see the module docstring for the equations and the statuses).
+    ``p_cap``: the GCI uses min(p, p_cap); ``zero_scale``: relative numbers are None where
+    the value they are relative to is below it (a quantity that is zero by physics)."""
+    if len(h) != 3 or len(f) != 3:
+        raise ValueError(f"richardson needs three grids, got {len(h)} sizes and {len(f)} values")
+    if not all(math.isfinite(v) for v in (*h, *f)) or min(h) <= 0.0:
+        raise ValueError(f"richardson needs finite values and sizes h > 0, got h={h}, f={f}")
+    order = sorted(range(3), key=lambda i: h[i])
+    if len({h[i] for i in order}) != 3:
+        raise ValueError(f"richardson needs three different grid sizes, got h={list(h)}")
+    (h1, h2, h3), (f1, f2, f3) = ([h[i] for i in order], [f[i] for i in order])
+    r21, r32 = h2 / h1, h3 / h2
+    e21, e32 = f2 - f1, f3 - f2
+    spread = max(f) - min(f)
+    big = max(abs(v) for v in f)
+
+    def rel_or_none(num, den):
+        return None if abs(den) <= zero_scale else _rel(num, den)
+
+    def fallback(status: str, note: str, p: float | None) -> Richardson:
+        return Richardson(
+            status=status,
+            order=p,
+            extrapolated=None,
+            rel_error=(None, None, None),
+            uncertainty=tuple(rel_or_none(spread, v) for v in f),
+            uncertainty_abs=(spread,) * 3,
+            gci_order=None,
+            note=note + "; uncertainty = spread of the levels (max - min)",
+        )
+
+    if spread <= SAME_RTOL * big:
+        return fallback("mesh-independent", "the same value on every grid", None)
+    if e21 * e32 < 0.0:
+        return fallback("oscillatory", "changes alternate in sign: no extrapolation", None)
+    if e21 == 0.0:  # the two finer grids agree exactly, the coarse one does not
+        return fallback("stagnant", "the two finer grids agree exactly: no order", None)
+    if e32 == 0.0:
+        return fallback("divergent", "the coarser pair agrees but the finer does not", None)
+    p = observed_order(r21, r32, e32 / e21)
+    if p <= 0.0:
+        return fallback("divergent", f"changes grow as the grid is refined (p = {p:.2f})", p)
+    if p < P_MIN:
+        return fallback("stagnant", f"changes barely shrink (p = {p:.2f} < {P_MIN})", p)
+    f_ext = f1 - e21 / (r21**p - 1.0)
+    p_gci = p if p_cap is None else min(p, p_cap)
+    f_gci = f1 - e21 / (r21**p_gci - 1.0)
+    note = f"monotone, observed order {p:.2f}"
+    if p_gci < p:
+        note += f" (above the cap {p_cap:g}: the GCI uses {p_gci:g})"
+    if p >= P_BOUNDS[1]:
+        note += "; the finer grids agree to within the order search: f_ext ~ the finest"
+    return Richardson(
+        status="monotone",
+        order=p,
+        extrapolated=f_ext,
+        rel_error=tuple(None if abs(f_ext) <= zero_scale else (v - f_ext) / abs(f_ext) for v in f),
+        uncertainty=tuple(
+            None if abs(v) <= zero_scale else safety * abs(v - f_gci) / abs(v) for v in f
+        ),
+        uncertainty_abs=tuple(safety * abs(v - f_gci) for v in f),
+        gci_order=p_gci,
+        note=note,
+    )
+
+
+def off_ladder(
+    res: Richardson,
+    f: float,
+    f_ladder: Sequence[float],
+    *,
+    safety: float = SAFETY,
+    zero_scale: float = 0.0,
+) -> dict:
+    """A run off the ladder (another element degree) against the ladder's result ``res``:
+    its error relative to f_ext and its uncertainty Fs |f - f_ext| / |f|; without an
+    extrapolation, the spread of the ladder and this value."""
+    if res.extrapolated is not None:
+        err = f - res.extrapolated
+        rel = None if abs(res.extrapolated) <= zero_scale else err / abs(res.extrapolated)
+        unc = safety * abs(err)
+    else:
+        rel = None
+        unc = max(*f_ladder, f) - min(*f_ladder, f)
+    return {
+        "value": f,
+        "rel_error": rel,
+        "uncertainty_abs": unc,
+        "uncertainty": None if abs(f) <= zero_scale else unc / abs(f),
+    }
+
+
+# ------------------------------------------------------------------ scalars of a summary
+def scalar_kind(key: str) -> str:
+    """``moment`` (N m), ``stress`` (MPa), ``offset`` (mm, um) or ``other`` (load factors,
+    line loads, ratios) from the dotted key."""
+    group, leaf = key.split(".", 1)[0], key.rsplit(".", 1)[-1]
+    if "." in key and "stress" in group:
+        if leaf.endswith("_MPa"):
+            return "stress"
+        other = leaf.startswith("K_") or "_to_" in leaf or leaf.endswith(("_mm", "_Nm", "_N"))
+        return "other" if other else "stress"
+    if leaf.startswith("M"):
+        return "moment"
+    if leaf.startswith("Z") or leaf.endswith(("_mm", "_um")):
+        return "offset"
+    return "other"
+
+
+def unit(key: str) -> str:
+    """The unit of a scalar by its key."""
+    leaf = key.rsplit(".", 1)[-1]
+    kind = scalar_kind(key)
+    if kind == "moment":
+        return "N m"
+    if kind == "stress":
+        return "MPa"
+    if leaf.endswith("_um"):
+        return "um"
+    if kind == "offset":
+        return "mm"
+    if leaf.endswith("_N_per_mm"):
+        return "N/mm"
+    return "-"
+
+
+def _leaves(tree, prefix: str, out: dict[str, float]) -> None:
+    if isinstance(tree, Mapping):
+        for k, v in tree.items():
+            if k in _SKIP_PARTS or k.endswith(_SKIP_SUFFIXES):
+                continue
+            _leaves(v, f"{prefix}.{k}", out)
+    elif isinstance(tree, float) and math.isfinite(tree):  # ints are counts, bools flags
+        out[prefix] = tree
+
+
+def summary_scalars(summary: Mapping, kind: str | None = None) -> dict[str, float]:
+    """The reported scalars of a summary (or of a position record) by dotted key: the
+    top-level scalars of the gear-set ``kind`` (:data:`postprocess.paper_moments.MEAN_KEYS`;
+    all kinds' when None) and every float under a top-level entry named ``*stress*``, except
+    where a maximum sits (``*_at``) and the ISO 6336 closed forms (``*iso6336*``)."""
+    keys = MEAN_KEYS[kind] if kind else {k for ks in MEAN_KEYS.values() for k in ks}
+    out: dict[str, float] = {}
+    for k in keys:
+        v = summary.get(k)
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
+            out[k] = float(v)
+    for name, tree in summary.items():
+        skip = name.endswith(_SKIP_SUFFIXES) or "iso6336" in name  # locations; closed forms
+        if "stress" in name and isinstance(tree, Mapping) and not skip:
+            _leaves(tree, name, out)
+    return out
+
+
+def lookup(tree: Mapping, key: str):
+    """The value at a dotted key of a summary (None where a part is missing)."""
+    for part in key.split("."):
+        if not isinstance(tree, Mapping) or part not in tree:
+            return None
+        tree = tree[part]
+    return tree
+
+
+# ------------------------------------------------------------------ summaries and reports
+def run_label(level: int, degree: int) -> str:
+    return f"L{level}P{degree}"
+
+
+def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dict:
+    """The ``uncertainty`` entries of a summary solved at ``level``/``degree`` from a
+    convergence ``study`` (a convergence.json): ``uncertainty`` {key: relative} for every
+    FE scalar (mesh-independent ones left out; None where the value is ~0),
+    ``uncertainty_abs`` {key: in the scalar's unit} and ``uncertainty_source``. No
+    convergence run at this level and degree: ``uncertainty`` None and a note."""
+    label = run_label(level, degree)
+    src = {
+        "convergence_study": source,
+        "case": study.get("case"),
+        "run": label,
+        "positions": study.get("positions"),
+        "code_hash": study.get("code_hash"),
+    }
+    if label not in study.get("labels", []):
+        have = ", ".join(study.get("labels", [])) or "none"
+        src["note"] = (
+            f"the convergence study {source} has no run at level {level}, degree {degree} "
+            f"(it has {have}): no uncertainty"
+        )
+        return {"uncertainty": None, "uncertainty_abs": None, "uncertainty_source": src}
+    rel, absolute = {}, {}
+    for key, s in study["scalars"].items():
+        if s["status"] == "mesh-independent" or label not in s.get("uncertainty", {}):
+            continue
+        rel[key] = s["uncertainty"][label]
+        absolute[key] = s["uncertainty_abs"][label]
+    src["note"] = (
+        "relative discretisation uncertainty of each scalar at this level and degree (GCI "
+        f"with Fs {SAFETY}, or the spread of the levels where convergence is not monotone), "
+        "from the study's position(s); a case sharing the gear set, scene and numerics uses "
+        "the same study"
+    )
+    return {"uncertainty": rel, "uncertainty_abs": absolute, "uncertainty_source": src}
+
+
+def plus_minus(summary: Mapping, key: str, fmt: str = ".1f", value: float | None = None) -> str:
+    """`` ± x`` (in the value's unit) for ``key`` of a summary with an ``uncertainty``;
+    '' without one. Offsets (mm) take the absolute uncertainty of the study (an offset near
+    zero has no useful relative one); everything else the relative one times the value."""
+    rel = (summary.get("uncertainty") or {}).get(key)
+    absolute = (summary.get("uncertainty_abs") or {}).get(key)
+    value = lookup(summary, key) if value is None else value
+    if scalar_kind(key) == "offset" or rel is None:
+        u = absolute if scalar_kind(key) == "offset" else None
+    else:
+        u = rel * abs(value) if isinstance(value, (int, float)) else None
+    return "" if u is None else f" ± {format(u, fmt)}"
+
+
+def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
+    """One line for a report: where its ± come from (the convergence study of each case),
+    and which cases have none."""
+    by_study: dict[str, list[str]] = {}
+    without = []
+    for name, s in summaries.items():
+        src = s.get("uncertainty_source") or {}
+        if s.get("uncertainty") and src.get("convergence_study"):
+            label = f"{src['convergence_study']} ({src.get('run')})"
+            by_study.setdefault(label, []).append(name)
+        else:
+            without.append(name)
+    parts = [f"{', '.join(names)} from {study}" for study, names in by_study.items()]
+    text = (
+        "± : discretisation uncertainty of the value at its mesh level (GCI with factor of "
+        "safety 1.25 from a Richardson extrapolation over mesh levels 0-2, or the spread of "
+        "the levels where they do not converge monotonically; offsets in mm absolute); "
+    )
+    text += "; ".join(parts) if parts else "no case has one"
+    if without and parts:
+        text += f"; none for {', '.join(without)} (no convergence study for its gear set, "
+        text += "scene and level: make convergence CASE=...)"
+    elif without:
+        text += " (make convergence CASE=... writes the study)"
+    return text + "."
+
+
+def convergence_links(summaries: Mapping[str, Mapping], report_dir: Path) -> list[str]:
+    """Markdown lines for a case report: a link to the report and the speed-against-error
+    chart of every convergence study its summaries take their uncertainty from (paths
+    relative to ``report_dir``)."""
+    studies = []
+    for s in summaries.values():
+        src = (s.get("uncertainty_source") or {}).get("convergence_study")
+        if s.get("uncertainty") and src and Path(src).parent not in studies:
+            studies.append(Path(src).parent)
+    lines = []
+    for folder in studies:
+        rel = Path(os.path.relpath(folder.resolve(), Path(report_dir).resolve())).as_posix()
+        lines += [f"- [{folder.name}: convergence study]({rel}/report.md)"]
+        if (folder / "speed_error.png").is_file():
+            lines += ["", f"![{folder.name} speed against error]({rel}/speed_error.png)", ""]
+    return lines

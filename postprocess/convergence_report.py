@@ -1,0 +1,241 @@
+"""``report.md`` and ``speed_error.png`` of a convergence study (``convergence.json`` as
+written by ``studies.convergence``): the runs and their cost, per scalar the values, status,
+observed order and extrapolated value, the error and the GCI uncertainty of every run, the
+recommended level, and the speed-against-error chart (wall time and peak memory of each
+run against its worst error relative to the extrapolated value, moments and stresses)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+from matplotlib.ticker import FormatStrFormatter, NullFormatter, PercentFormatter
+
+from postprocess.convergence_study import P_CAP
+
+CHART = "speed_error.png"
+
+
+def _pct(x) -> str:
+    return "-" if x is None else f"{100 * x:+.2f} %"
+
+
+def _upct(x) -> str:
+    return "-" if x is None else f"{100 * x:.2f} %"
+
+
+def _num(x, unit: str) -> str:
+    if x is None:
+        return "-"
+    return f"{x:.1f}" if unit == "MPa" else f"{x:.4g}"
+
+
+def _labels(conv: dict) -> list[str]:
+    return [r["label"] for r in conv["runs"] if "error" not in r]
+
+
+def _runs_table(conv: dict) -> list[str]:
+    lines = [
+        "| run | level | degree | DOFs | grid points | total (s) | scene, meshes (s) | bodies (s)"
+        " | of which factorization (s) | compliance (s) | peak memory (GB) | process (s) | "
+        "reused |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in conv["runs"]:
+        if "error" in r:
+            lines.append(f"| {r['label']} | {r['level']} | {r['degree']} | failed: {r['error']} |")
+            continue
+        t = r["time_s"]
+        lines.append(
+            f"| {r['label']} | {r['level']} | {r['degree']} | {r['dofs']} | "
+            f"{r['grid_points_total']} | {t['total']:.1f} | {t.get('scene_meshes', 0):.1f} | "
+            f"{t.get('bodies', 0):.1f} | {t['factorization']:.1f} | {t['compliance']:.1f} | "
+            f"{r['peak_rss_mb'] / 1024:.1f} | {r.get('process_wall_s', float('nan')):.0f} | "
+            f"{'yes' if r.get('reused') else 'no'} |"
+        )
+    for s in conv.get("skipped", []):
+        lines.append(f"| {s['label']} | {s['level']} | {s['degree']} | skipped: {s['why']} |")
+    return lines
+
+
+def _scalar_rows(conv: dict, targeted: bool) -> list[tuple[str, dict]]:
+    rows = [(k, e) for k, e in conv["scalars"].items() if e.get("status") != "mesh-independent"]
+    return [(k, e) for k, e in rows if (e.get("target") is not None) == targeted]
+
+
+def _values_table(conv: dict, rows, labels) -> list[str]:
+    lines = [
+        "| scalar | unit | target | " + " | ".join(labels) + " | extrapolated | status | order |",
+        "|---|---|---|" + "---|" * len(labels) + "---|---|---|",
+    ]
+    for key, e in rows:
+        vals = " | ".join(_num(e["values"].get(lab), e["unit"]) for lab in labels)
+        tgt = "-" if e.get("target") is None else f"{e['target']:.0%}"
+        p = "-" if e.get("order") is None else f"{e['order']:.2f}"
+        lines.append(
+            f"| {key} | {e['unit']} | {tgt} | {vals} | "
+            f"{_num(e.get('extrapolated'), e['unit'])} | {e['status']} | {p} |"
+        )
+    return lines
+
+
+def _errors_table(conv: dict, rows, labels) -> list[str]:
+    lines = [
+        "| scalar | "
+        + " | ".join(f"error {lab}" for lab in labels)
+        + " | "
+        + " | ".join(f"U {lab}" for lab in labels)
+        + " |",
+        "|---|" + "---|" * (2 * len(labels)),
+    ]
+    for key, e in rows:
+        err = " | ".join(_pct((e.get("rel_error") or {}).get(lab)) for lab in labels)
+        unc = " | ".join(_upct((e.get("uncertainty") or {}).get(lab)) for lab in labels)
+        lines.append(f"| {key} | {err} | {unc} |")
+    return lines
+
+
+def _recommendation(conv: dict) -> list[str]:
+    rec = conv["recommendation"]
+    lines = ["## Which level", ""]
+    lines.append(
+        f"Targets (issue 13): moments within {rec['targets']['moment']:.0%}, stresses "
+        f"within {rec['targets']['stress']:.0%} of the extrapolated value."
+    )
+    lines.append("")
+    lines.append("| run | time (s) | memory (GB) | worst moment | worst stress | meets |")
+    lines.append("|---|---|---|---|---|---|")
+    for v in rec["runs"]:
+
+        def w(kind, v=v):
+            d = v["worst"].get(kind)
+            if d is None:
+                return "-"
+            how = "" if d["how"] == "error" else f" ({d['how']})"
+            return f"{d['key']} {d['error']:.2%}{how}"
+
+        lines.append(
+            f"| {v['run']} | {v['time_s']:.1f} | {v['peak_rss_mb'] / 1024:.1f} | "
+            f"{w('moment')} | {w('stress')} | {'yes' if v['meets'] else 'no'} |"
+        )
+    lines += ["", f"**Recommendation:** {rec['note']}.", ""]
+    if conv.get("recommendation_context"):
+        lines += [conv["recommendation_context"], ""]
+    return lines
+
+
+def _h_measure(conv: dict) -> list[str]:
+    diffs = [
+        (k, e["h_measure_difference"])
+        for k, e in conv["scalars"].items()
+        if e.get("target") is not None and e.get("h_measure_difference") is not None
+    ]
+    if not diffs:
+        return []
+    key, worst = max(diffs, key=lambda kv: abs(kv[1]))
+    return [
+        "Grid size h: the flank element size (fillet size for root stresses). Extrapolating "
+        f"with h = N_dof^(-1/3) instead moves the targeted values by at most {abs(worst):.2%} "
+        f"({key}); a large number here means the ladder is not yet asymptotic.",
+        "",
+    ]
+
+
+def write_report(conv: dict, folder: Path) -> Path:
+    """Write ``report.md`` and the chart into ``folder``; returns the report path."""
+    folder = Path(folder)
+    labels = _labels(conv)
+    m = conv["match"]
+    lines = [
+        f"# Convergence study: {conv['case']} (gear set {m['gearset']}, {m['scene']} scene)",
+        "",
+        f"{conv['positions_note']} Each run is one child process (wall time and peak memory of "
+        "that run alone). Ladder: the three finest h-levels at degree "
+        f"{conv['ladder_degree']}; Richardson extrapolation with the observed order over "
+        "non-constant refinement ratios, GCI with factor of safety 1.25 and the order capped "
+        f"at {P_CAP:g} (postprocess/convergence.py); error = (value - extrapolated) / "
+        "|extrapolated|; U = the GCI uncertainty of that run (relative). Where convergence is "
+        "not monotone (oscillatory, stagnant, divergent) there is no extrapolation and U is "
+        "the spread of the levels.",
+        "",
+    ]
+    lines += _h_measure(conv)
+    lines += ["## Runs", "", *_runs_table(conv), ""]
+    if not conv["scalars"]:
+        lines += ["No scalar table: fewer than one finished ladder run.", ""]
+    else:
+        for title, targeted in (
+            ("Targeted scalars (moments, stresses)", True),
+            ("Other scalars (offsets, factors, edge peaks)", False),
+        ):
+            rows = _scalar_rows(conv, targeted)
+            if not rows:
+                continue
+            lines += [f"## {title}", "", *_values_table(conv, rows, labels), ""]
+            lines += [*_errors_table(conv, rows, labels), ""]
+        same = [k for k, e in conv["scalars"].items() if e.get("status") == "mesh-independent"]
+        if same:
+            lines += [f"Mesh-independent (inputs, not FE results): {', '.join(same)}.", ""]
+        lines += _recommendation(conv)
+    if (folder / CHART).is_file():
+        lines += ["## Speed against error", "", f"![speed against error]({CHART})", ""]
+    path = folder / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def speed_error_chart(conv: dict, path: Path) -> bool:
+    """Wall time and peak memory of each run against its worst error (moments, stresses)
+    relative to the extrapolated value; False (nothing drawn) without a verdict to plot."""
+    verdicts = [v for v in conv["recommendation"]["runs"] if v["worst"]]
+    if not verdicts:
+        return False
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
+    styles = {"moment": ("o", "C0"), "stress": ("s", "C3")}
+    targets = conv["recommendation"]["targets"]
+    for ax, xkey, xlabel in (
+        (axes[0], "time_s", "wall time per run (s)"),
+        (axes[1], "peak_rss_mb", "peak memory per run (GB)"),
+    ):
+        for kind, (marker, colour) in styles.items():
+            pts = [
+                (
+                    v[xkey] / (1024.0 if xkey == "peak_rss_mb" else 1.0),
+                    max(v["worst"][kind]["error"], 1e-5),
+                    v["run"],
+                    v["worst"][kind]["how"] != "error",
+                )
+                for v in verdicts
+                if kind in v["worst"]
+            ]
+            if not pts:
+                continue
+            for x, y, lab, bound in pts:
+                ax.loglog(x, y, marker, color=colour, mfc="none" if bound else colour)
+                ax.annotate(lab, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
+            ax.plot([], [], marker, color=colour, label=f"worst {kind}")
+            ax.axhline(
+                targets[kind],
+                color=colour,
+                lw=0.8,
+                ls="--",
+                label=f"{kind} target {targets[kind]:.0%}",
+            )
+        ax.set_xlabel(xlabel)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+        minor = FormatStrFormatter("%g") if xkey == "peak_rss_mb" else NullFormatter()
+        ax.xaxis.set_minor_formatter(minor)
+        ax.yaxis.set_major_formatter(PercentFormatter(1.0, decimals=None))
+    axes[0].set_ylabel("|error| relative to the extrapolated value")
+    axes[0].legend(fontsize=8, loc="best", framealpha=0.9)
+    fig.suptitle(
+        f"{conv['case']}: speed against error (hollow: spread bound, no extrapolation)", fontsize=10
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return True

@@ -1,0 +1,185 @@
+"""Root and contact stress sections of the case reports: the FE values over the mesh cycle
+beside ISO 6336-3 (root) and ISO 6336-2 / Hertz (contact), and where and why they differ.
+
+Reads only summaries (:func:`postprocess.summary.summarise`): ``bending_stress`` (FE surface
+maximum of the max principal stress over the mesh cycle, :mod:`solvers.root_stress`),
+``bending_stress_tangent`` (on ISO's 30 / 60 deg line), ``bending_stress_cell`` (the largest
+P1 cell value, the old estimate), ``bending_stress_at``, ``bending_stress_iso6336`` (sigma_F0
+with the 2006 and 2019 Y_beta and the factors, :func:`postprocess.mesh_stress.
+iso_root_stress_factors`) and ``contact_stress_cycle`` (:func:`postprocess.mesh_stress.
+contact_stress_cycle`). Older summaries without a field print "-".
+"""
+
+from __future__ import annotations
+
+
+def _f(v, fmt: str = ".0f") -> str:
+    return "-" if v is None else format(v, fmt)
+
+
+def _ratio(a, b) -> str:
+    return f"{a / b:.2f}" if a is not None and b else "-"
+
+
+def _label(key: str) -> str:
+    """ "pinion_sun_side" -> "pinion (sun side)"."""
+    if key.endswith("_side"):
+        gear, mate = key.removesuffix("_side").rsplit("_", 1)
+        return f"{gear} ({mate} side)"
+    return key
+
+
+def root_section(runs: dict[str, dict], keys, order) -> list[str]:
+    """Markdown lines: the FE root stress against ISO 6336-3 for the cases ``order`` of
+    ``runs`` (name -> summary) and the gear keys ``keys``."""
+    lines = [
+        "## Root stress: FE fillet surface against ISO 6336-3 (MPa)",
+        "",
+        "FE: the maximum principal stress at the fillet surface of the loaded teeth: at each",
+        "fillet vertex the mean of the surface cells' own stress there (P2: their linear",
+        "stress, converging as h^2; P1: their constant stress, a lower estimate converging as",
+        "h), maximum over the vertices more than one element from a face end and over the mesh",
+        "positions (`solvers/root_stress.py`); `face end`: the largest within one element of",
+        "a face end (a corner under edge load, growing with refinement); `30/60 deg`: the",
+        "largest value on ISO's critical line (fillet tangent at 30 deg to the tooth centre",
+        "line, 60 deg for the ring) along the face width; `P1 cell`: the largest cell value",
+        "(the earlier estimate). ISO: method B nominal sigma_F0 (K factors 1, Y_B = Y_DT = 1;",
+        "tooth thickness allowance included; the ring by ISO's substitute rack at 60 deg) with",
+        "Y_beta of the 2006 edition; in brackets with the 2019 edition's Y_beta (the 2006 one",
+        "divided by cos(beta)^3).",
+        "",
+        "How far P1 is from the surface value (1-GA, roll 0, issue 13): the P1 surface value",
+        "is 0.64-0.70 of the P2 level-0 value at level 0, 0.68-0.78 at level 1 and 0.85-0.96",
+        "at level 2 (the fillet gets 3, 3-4 and 5-6 elements across); quote P2 at level 0",
+        "(or P1 at level 2, about 10 % low) for the root stress, not a P1 run at level 0 or 1.",
+        "",
+        "| case | level / P | gear | FE surface | at (tooth, side, z mm) | face end"
+        " | FE 30/60 deg | P1 cell | ISO sigma_F0 (2019) | surface / ISO | 30/60 / ISO |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    ratios, tang = [], []
+    for name in order:
+        s = runs[name]
+        fe = s.get("bending_stress") or {}
+        tan = s.get("bending_stress_tangent") or {}
+        cell = s.get("bending_stress_cell") or {}
+        end = s.get("bending_stress_face_end") or {}
+        at = s.get("bending_stress_at") or {}
+        iso = s.get("bending_stress_iso6336") or {}
+        iso0 = s.get("bending_stress_iso6336_nominal") or {}
+        for i, k in enumerate(keys):
+            if k not in fe and k not in iso0:
+                continue
+            sig = (iso.get(k) or {}).get("sigma_F0", iso0.get(k))
+            sig19 = (iso.get(k) or {}).get("sigma_F0_Ybeta2019")
+            a = at.get(k) or {}
+            where = (f"{a['tooth']}, {a['side']}, {a['z_mm']:+.1f}"
+                     if a.get("tooth") is not None else "-")  # fmt: skip
+            head = f"| {name} | {s.get('level', '-')} / {s.get('degree', '-')} " if i == 0 else (
+                "| | ")  # fmt: skip
+            iso_txt = f"{_f(sig)} ({_f(sig19)})" if sig19 else _f(sig)
+            lines.append(
+                f"{head}| {_label(k)} | {_f(fe.get(k))} | {where} | {_f(end.get(k))} | "
+                f"{_f(tan.get(k))} | "
+                f"{_f(cell.get(k))} | {iso_txt} | {_ratio(fe.get(k), sig)} | "
+                f"{_ratio(tan.get(k), sig)} |"
+            )
+            if fe.get(k) and sig:
+                ratios.append(fe[k] / sig)
+            if fe.get(k) and tan.get(k):
+                tang.append(tan[k] / fe[k])
+    lines += ["", *_root_differences(ratios, tang, runs[order[0]] if order else {})]
+    return lines
+
+
+def _root_differences(ratios: list[float], tang: list[float], s: dict) -> list[str]:
+    """Where and why the FE and ISO root stresses differ (the numbers from the table and the
+    ISO factors of the summary ``s``)."""
+    out = ["Where and why FE and ISO differ:", ""]
+    if ratios:
+        out.append(
+            f"- FE surface / ISO (2006) spans {min(ratios):.2f}-{max(ratios):.2f} over the "
+            "table. ISO's sigma_F0 is a nominal stress: a cantilever of the virtual spur gear "
+            "loaded at the outer point of single pair contact, times a stress correction Y_S "
+            "fitted to spur-tooth notch stresses, times Y_beta for the inclined contact lines; "
+            "the FE resolves the real helical tooth, its load sharing and its fillet."
+        )
+    if tang:
+        out.append(
+            f"- Location: on ISO's 30/60 deg line the FE stress is {min(tang):.2f}-"
+            f"{max(tang):.2f} of the FE surface maximum; the maximum sits off that line "
+            "and along the face where the contact lines carry most (its z in the table), "
+            "while ISO takes one transverse section."
+        )
+    iso = s.get("bending_stress_iso6336") or {}
+    ext = [v for v in iso.values() if v and not v.get("internal")]
+    inn = [v for v in iso.values() if v and v.get("internal")]
+    if ext or inn:
+        ys = lambda vs: f"{min(v['Y_S'] for v in vs):.2f}-{max(v['Y_S'] for v in vs):.2f}"  # noqa: E731
+        txt = f"- Y_S: ISO's empirical notch factor is {ys(ext)} here for the external gears"
+        if inn:
+            v = inn[0]
+            txt += (
+                f" and {v['Y_S']:.2f} for the internal gear (q_s = s_Fn / (2 rho_F) = "
+                f"{v['q_s']:.2f}: the substitute rack's fillet radius rho_F = {v['rho_F']:.3f} "
+                f"mm, where the shaper-cut fillet has {v['rho_F_generated']:.3f} mm at 60 deg)"
+            )
+        out.append(txt + "; the FE fillet is the generated trochoid, its notch stress is "
+                   "computed, not fitted.")  # fmt: skip
+    out += [
+        "- Rim: ISO's Y_B = 1 assumes a rim at least 1.2 tooth depths thick; the modelled "
+        "ring is a thin rim that bends as a ring between its supports, which ISO does not "
+        "see, and the internal tooth is wider at the root than the external teeth.",
+        "- Load distribution: ISO's nominal has K_Fbeta = K_Falpha = 1 (the load spread evenly "
+        "over the face and the contact lines); the FE carries the real distribution (K_Hbeta "
+        "in the contact table), which raises the local root stress where the load "
+        "concentrates.",
+        "- Helix factor: the 2006 and 2019 editions' Y_beta differ by 1 / cos(beta)^3; the "
+        "comparison uses 2006 (the paper's era, and the form we can quote).",
+    ]
+    return out
+
+
+def contact_section(runs: dict[str, dict], meshes, order) -> list[str]:
+    """Markdown lines: FE contact stress against ISO 6336-2 and Hertz at the pitch point."""
+    lines = [
+        "## Contact stress: FE against ISO 6336-2 and Hertz (MPa)",
+        "",
+        "FE: Hertz line contact with the exact curvatures under the FE line load of each grid",
+        "point (the grid's contact force per contact-line length), largest over the interior",
+        "points of the mesh cycle (line ends and tip/form points are edge loads, left out).",
+        "Hertz at C: the pitch point's curvature under the FE's largest and mean interior line",
+        "load. ISO 6336-2 method B at the pitch point, K factors 1 (sigma_H0), and with the",
+        "FE's K_Hbeta = w_max / w_mean (sigma_H0 sqrt(K_Hbeta)); Hertz at C under ISO's mean",
+        "load per contact length is sigma_H0 / Z_beta (the check that both use one load).",
+        "",
+        "| case | mesh | FE interior max | at s mm | Hertz C, w_max | Hertz C, w_mean "
+        "| ISO sigma_H0 | K_Hbeta | ISO sigma_H0 sqrt(K_Hbeta) | FE / ISO(K_Hbeta) |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name in order:
+        cyc = runs[name].get("contact_stress_cycle") or {}
+        first = True
+        for m in meshes:
+            c = cyc.get(m)
+            if c is None:
+                continue
+            at = (c.get("interior_at") or {}).get("s_mm")
+            lines.append(
+                f"| {name if first else ''} | {m.replace('_', '-')} | "
+                f"{_f(c.get('interior_p_max_MPa'))} | {_f(at, '+.2f')} | "
+                f"{_f(c.get('hertz_pitch_w_max_MPa'))} | {_f(c.get('hertz_pitch_w_mean_MPa'))} | "
+                f"{_f(c.get('sigma_H0_MPa'))} | {_f(c.get('K_Hbeta'), '.2f')} | "
+                f"{_f(c.get('sigma_H_MPa'))} | "
+                f"{_ratio(c.get('interior_p_max_MPa'), c.get('sigma_H_MPa'))} |"
+            )
+            first = False
+    lines += [
+        "",
+        "The FE maximum and ISO's pitch-point value differ where the largest line load sits "
+        "away from the pitch point (s in the table: the relative curvature there is not C's), "
+        "where ISO's Z_eps (mean contact-line length) and Z_beta stand for the FE's actual "
+        "load sharing between the contact lines, and because K_Hbeta here holds the load "
+        "sharing along and between the lines, not only ISO's face load factor.",
+    ]
+    return lines

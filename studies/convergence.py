@@ -1,0 +1,238 @@
+"""Convergence study of any case: h-levels and an element-degree step, Richardson
+extrapolation of every reported scalar, the error and uncertainty of each run, the level to
+use, a speed-against-error chart.
+
+    python -m studies.convergence 1-GB [--levels 0 1 2] [--extra 0:2 ...] [--positions 1]
+        [--out results/convergence] [--min-free-gb 16] [--no-reuse]
+
+Every (level, degree) run solves the case's first ``--positions`` mesh positions (equally
+spaced over one base pitch, as ``studies.run``) in a fresh child process
+(:mod:`studies.position_runs`), so the wall time and peak memory are those of the run alone,
+and reduces them to the summary's scalars (means over the positions, stress maxima over
+them). A run is written to ``<out>/<case>/runs/<run>.json`` and reused by a later study only
+when it was solved from the same inputs, code, level, degree and positions. ``--extra`` runs
+(another degree) are compared with the h-ladder's extrapolation; each one is started only if
+``MemAvailable`` is at least ``--min-free-gb`` (a level-0 P2 run of a case-1 branch peaks at
+about 14 GB) and is otherwise skipped with the reason in the report. A run that fails (out
+of memory, timeout, error) is recorded and the study goes on.
+
+Writes ``<out>/<case>/convergence.json`` (:mod:`postprocess.convergence_study`: per scalar
+the values, status, observed order, extrapolated value, error and uncertainty of every run;
+the recommended run; what a summary must share to use the study, :mod:`studies.uncertainty`),
+``report.md`` and ``speed_error.png`` (:mod:`postprocess.convergence_report`). Exit status:
+0 done (runs may have failed: see the report), 2 invalid input, 3 a file could not be
+written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import sys
+from pathlib import Path
+
+from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
+from meshing import sizing
+from postprocess.convergence import run_label
+from postprocess.convergence_report import CHART, speed_error_chart, write_report
+from postprocess.convergence_study import recommend, scalar_table
+from studies.cli import InputError, guarded
+from studies.files import ResultFileError, read_json, write_json
+from studies.position_runs import mem_available_gb, print_row, run_child, solve_run
+from studies.provenance import code_hash
+from studies.uncertainty import STUDY_FILE, match_key
+
+LADDER_DEGREE = 1
+POSITIONS_NOTE = {
+    1: "One mesh position (sun angle 0). The discretisation error of a mean moment is set by "
+    "the element and grid sizes on the flanks, the same at every position, so its relative "
+    "error at one position stands for the mean over the positions (1-GB, level 0 to 1: the "
+    "change of My_pin and the LOA moments at one position is within 0.3 points of the change "
+    "of their five-position means). The cycle maxima of the contact and root stresses are a "
+    "weaker case: which grid point or fillet carries the maximum changes from position to "
+    "position, so their one-position errors only indicate the size; `--positions 5` "
+    "(`make convergence POSITIONS=5`) studies exactly the summary's means and maxima.",
+}
+
+
+def _reuse_key(study, level: int, degree: int, positions: int) -> dict:
+    return {
+        "inputs_hash": inputs_hash(study),
+        "code_hash": code_hash(),
+        "level": level,
+        "degree": degree,
+        "positions": positions,
+    }
+
+
+def _parse_extra(text: str) -> tuple[int, int]:
+    try:
+        level, degree = (int(v) for v in text.split(":"))
+    except ValueError as exc:
+        raise InputError(f"--extra {text!r}: must be LEVEL:DEGREE, e.g. 0:2") from exc
+    if degree not in (1, 2):
+        raise InputError(f"--extra {text!r}: the degree must be 1 or 2")
+    return level, degree
+
+
+def _check(args) -> list[tuple[int, int]]:
+    """The runs of the study (ladder, then extras), checked; InputError names the option."""
+    for lv in args.levels:
+        try:
+            sizing.check_level(lv)
+        except ValueError as exc:
+            raise InputError(f"--levels: {exc}") from exc
+    if len(set(args.levels)) < 3:
+        raise InputError(
+            f"--levels {args.levels}: give at least three different levels "
+            "(Richardson extrapolation needs three grids)"
+        )
+    if not 1 <= args.positions <= MAX_POSITIONS:
+        raise InputError(f"--positions {args.positions}: must be 1 to {MAX_POSITIONS}")
+    runs = [(lv, LADDER_DEGREE) for lv in sorted(set(args.levels))]
+    for e in args.extra:
+        run = _parse_extra(e)
+        sizing.check_level(run[0])
+        if run not in runs:
+            runs.append(run)
+    return runs
+
+
+def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
+    """The finished run in ``runs/<run>.json`` if it was solved with this study's key."""
+    path = folder / "runs" / f"{run_label(level, degree)}.json"
+    if args.no_reuse or not path.is_file():
+        return None
+    try:
+        old = read_json(path)
+    except ResultFileError:
+        return None
+    key = _reuse_key(study, level, degree, args.positions)
+    if isinstance(old, dict) and old.get("reuse_key") == key and "error" not in old:
+        old["reused"] = True
+        return old
+    return None
+
+
+def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
+    """The row of one run: reused (:func:`_reused`), else solved in a child process and
+    written to ``runs/<run>.json``."""
+    old = _reused(args, study, level, degree, folder)
+    if old is not None:
+        return old
+    label = run_label(level, degree)
+    child = ["--one", args.case, str(level), str(degree), str(args.positions)]
+    row = run_child("studies.convergence", child, level, degree, args.timeout)
+    row["label"], row["reused"] = label, False
+    row["reuse_key"] = _reuse_key(study, level, degree, args.positions)
+    write_json(folder / "runs" / f"{label}.json", row)
+    return row
+
+
+def _say(row: dict) -> None:
+    if "error" in row:
+        print(f"{row['label']}: FAILED {row['error']}", flush=True)
+        return
+    t = row["time_s"]
+    print(
+        f"{row['label']}: {row['dofs']} DOFs, {t['total']:.1f} s (factorization "
+        f"{t['factorization']:.1f}, compliance {t['compliance']:.1f}), "
+        f"{row['peak_rss_mb'] / 1024:.1f} GB" + (" (reused)" if row.get("reused") else ""),
+        flush=True,
+    )
+
+
+def study(args) -> Path:
+    """Run (or reuse) every run, then write convergence.json, the chart and the report."""
+    case = load_study_case(args.case)
+    runs = _check(args)
+    folder = args.out / case.name
+    (folder / "runs").mkdir(parents=True, exist_ok=True)
+    rows, skipped = [], []
+    for level, degree in runs:
+        label = run_label(level, degree)
+        extra = degree != LADDER_DEGREE
+        free = mem_available_gb()
+        if extra and free < args.min_free_gb and _reused(args, case, level, degree, folder) is None:
+            why = (
+                f"MemAvailable {free:.1f} GB < {args.min_free_gb:g} GB asked for (--min-free-gb;"
+                " a level-0 P2 run of a case-1 branch peaks at about 14 GB)"
+            )
+            skipped.append({"label": label, "level": level, "degree": degree, "why": why})
+            print(f"{label}: skipped, {why}", flush=True)
+            continue
+        row = _one_run(args, case, level, degree, folder)
+        rows.append(row)
+        _say(row)
+    table = scalar_table(rows, LADDER_DEGREE)
+    conv = {
+        "case": case.name,
+        "description": case.description,
+        "match": match_key(case),
+        "code_hash": code_hash(),
+        "positions": args.positions,
+        "positions_note": POSITIONS_NOTE.get(
+            args.positions,
+            f"{args.positions} mesh positions over one base pitch (means and maxima over them).",
+        ),
+        "ladder_degree": LADDER_DEGREE,
+        "labels": [r["label"] for r in rows if "error" not in r],
+        "runs": rows,
+        "skipped": skipped,
+        "scalars": table,
+        "recommendation": recommend(rows, table),
+        "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
+    }
+    write_json(folder / STUDY_FILE, conv)
+    if not speed_error_chart(conv, folder / CHART):
+        (folder / CHART).unlink(missing_ok=True)
+    report = write_report(conv, folder)
+    print(f"{conv['recommendation']['note']}\nwrote {folder / STUDY_FILE} and {report}")
+    return report
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(
+        prog="python -m studies.convergence", description=__doc__.splitlines()[0]
+    )
+    ap.add_argument("case", nargs="?", help="case name (cases/<name>.toml) or case file path")
+    ap.add_argument(
+        "--levels",
+        type=int,
+        nargs="+",
+        default=[0, 1, 2],
+        help="h-levels at degree 1 (the three finest are extrapolated)",
+    )
+    ap.add_argument(
+        "--extra",
+        nargs="*",
+        default=["0:2"],
+        metavar="L:D",
+        help="runs off the ladder, e.g. 0:2 (level 0, P2); none: --extra",
+    )
+    ap.add_argument("--positions", type=int, default=1, help="mesh positions per run")
+    ap.add_argument("--out", type=Path, default=Path("results/convergence"))
+    ap.add_argument(
+        "--min-free-gb",
+        type=float,
+        default=16.0,
+        help="start an --extra run only with this much memory available",
+    )
+    ap.add_argument("--timeout", type=float, default=3600.0, help="per run (s)")
+    ap.add_argument("--no-reuse", action="store_true", help="solve every run again")
+    ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
+    ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.one:
+        case, level, degree, n = args.one
+        return guarded(
+            lambda: print_row(solve_run(case, int(level), int(degree), int(n))), traceback=True
+        )
+    if not args.case:
+        ap.error("give the case: python -m studies.convergence 1-GB")
+    return guarded(lambda: study(args), traceback=args.traceback)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

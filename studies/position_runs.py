@@ -1,0 +1,130 @@
+"""Mesh positions of a case solved in a fresh child process, one (level, degree) per child, so
+the wall time and peak memory measured are those of that run alone.
+
+:func:`solve_run` solves the positions in this process and returns the run's row: the
+reported scalars of the summary these positions make (:func:`postprocess.summary.summarise`
+reduced by :func:`postprocess.convergence.summary_scalars`: means over the positions, cycle
+maxima of the stresses, exactly what ``summary.json`` would hold), DOFs, contact grid points,
+the wall-time split summed over the positions (scene and meshes / bodies, of which
+factorization / gap operator and free solve / compliance / active set / final solve / total),
+the element sizes of the level and the peak resident memory (``ru_maxrss`` of the process).
+:func:`run_child` runs it in a child (``python -m <module> --one ...``) and reads the row
+back; a child that fails (out of memory, timeout, error) gives a row with its ``error``.
+"""
+
+from __future__ import annotations
+
+import json
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from mpi4py import MPI
+
+from cases.study_case import load_study_case
+from meshing import sizing
+from postprocess.convergence import summary_scalars
+from postprocess.summary import summarise
+from solvers.body_store import BodyStore
+from studies.position import solve_position
+from studies.run import roll_angles
+
+ROW_MARK = "@@row "  # the line of the child's stdout that holds its row
+
+
+def peak_rss_mb() -> float:
+    """Peak resident memory of this process (MB; Linux reports ru_maxrss in kB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def mem_available_gb() -> float:
+    """MemAvailable of /proc/meminfo (GB): what a new run can take without swapping."""
+    for line in Path("/proc/meminfo").read_text().splitlines():
+        if line.startswith("MemAvailable:"):
+            return int(line.split()[1]) / 1024.0**2
+    return float("nan")
+
+
+def _time_split(positions: list[dict]) -> dict[str, float]:
+    """The wall-time split of a run, summed over its positions (s). ``bodies``: assembly,
+    reduction and factorization of the bodies (the first position; later ones reuse them)
+    and the contact grids; ``factorization``: the part of it spent factorizing."""
+
+    def total(*keys):
+        return float(sum(p["timings"].get(k, 0.0) for p in positions for k in keys))
+
+    return {
+        "scene_meshes": total("scene", "meshes"),
+        "bodies": total("model"),
+        "factorization": float(positions[0]["timings"].get("factorize", 0.0)),
+        "gap_operator_free_solve": total("setup_bodies", "gap_operator", "free_solve"),
+        "compliance": total("compliance"),
+        "active_set": total("active_set"),
+        "final_solve": total("final_solve"),
+        "total": total("wall"),
+    }
+
+
+def solve_run(case: str, level: int, degree: int, positions: int) -> dict:
+    """Solve ``positions`` equally spaced mesh positions of ``case`` (serial, bodies reused
+    across them) at ``level``/``degree``; the run's row (see the module docstring)."""
+    study = load_study_case(case)
+    comm = MPI.COMM_WORLD
+    store = BodyStore()
+    solved = [
+        solve_position(study, roll, comm, level=level, degree=degree, store=store)
+        for roll in roll_angles(study, positions)
+    ]
+    summary = summarise(study, solved, [], {"level": level, "degree": degree})
+    lv = sizing.check_level(level)
+    grid = {m: int(v["grid_points"]) for m, v in solved[0]["meshes"].items()}
+    return {
+        "level": level,
+        "degree": degree,
+        "positions": positions,
+        "rolls": [p["roll"] for p in solved],
+        "dofs": int(solved[0]["dofs"]),
+        "h_mm": {"fine": lv.fine, "fillet": lv.fillet},
+        "grid_points": grid,
+        "grid_points_total": sum(grid.values()),
+        "compliance_columns": int(sum(p["timings"].get("compliance_columns", 0) for p in solved)),
+        "time_s": _time_split(solved),
+        "peak_rss_mb": peak_rss_mb(),
+        "scalars": summary_scalars(summary, study.gearset.kind),
+    }
+
+
+def run_child(module: str, args: list[str], level: int, degree: int, timeout: float) -> dict:
+    """``python -m <module> <args>`` in a child process; its row (the last ``@@row`` line of
+    its stdout) with ``process_wall_s`` (including interpreter and library start-up), or a
+    row with ``error`` (exit code, signal, the tail of stderr)."""
+    cmd = [sys.executable, "-m", module, *args]
+    t0 = time.perf_counter()
+    try:
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"level": level, "degree": degree, "error": f"timeout after {timeout:.0f} s"}
+    wall = time.perf_counter() - t0
+    rows = [ln[len(ROW_MARK) :] for ln in res.stdout.splitlines() if ln.startswith(ROW_MARK)]
+    if res.returncode != 0 or not rows:
+        sig = -res.returncode if res.returncode < 0 else None
+        err = f"exit code {res.returncode}" + (
+            f" (signal {sig}, e.g. killed out of memory)" if sig else ""
+        )
+        return {
+            "level": level,
+            "degree": degree,
+            "error": err,
+            "stderr_tail": res.stderr.strip().splitlines()[-5:],
+            "process_wall_s": wall,
+        }
+    row = json.loads(rows[-1])
+    row["process_wall_s"] = wall
+    return row
+
+
+def print_row(row: dict) -> None:
+    """What a child prints for :func:`run_child` to read."""
+    print(ROW_MARK + json.dumps(row), flush=True)

@@ -1,0 +1,66 @@
+"""The convergence study and the study driver agree (level 0, one position, serial): a run of
+the study measures exactly the scalars the summary reports, and the driver writes the
+uncertainty of the matching study into summary.json, which the case-1 report prints."""
+
+from __future__ import annotations
+
+import io
+import json
+
+import pytest
+
+from cases.study_case import load_study_case
+from postprocess.case1_report import write_report
+from postprocess.convergence import summary_scalars
+from postprocess.convergence_study import scalar_table
+from studies import run as study_run
+from studies.files import write_json
+from studies.position_runs import solve_run
+from studies.progress import Progress
+from studies.uncertainty import STUDY_FILE, match_key
+
+
+@pytest.fixture(scope="module")
+def level0(tmp_path_factory):
+    """1-GA at level 0, one position: the study driver's summary (with a convergence study of
+    the gear set under the results folder) and a convergence run of the same position."""
+    out = tmp_path_factory.mktemp("results")
+    row = solve_run("1-GA", 0, 1, 1)
+    rows = []
+    for level, seconds in ((0, 10.0), (1, 20.0), (2, 110.0)):  # a ladder around the real run
+        scale = {0: 1.0, 1: 0.5, 2: 0.2}[level]
+        scalars = {k: v * (1.0 + 0.01 * scale) for k, v in row["scalars"].items()}
+        rows.append({**row, "level": level, "label": f"L{level}P1", "scalars": scalars,
+                     "h_mm": {"fine": 1.0 - 0.3 * level, "fillet": 0.6 - 0.15 * level},
+                     "dofs": row["dofs"] * 3**level, "time_s": {"total": seconds}})  # fmt: skip
+    table = scalar_table(rows)
+    study = load_study_case("1-GB")  # the study of another case of the same gear set
+    conv = {"case": "1-GB", "match": match_key(study), "labels": ["L0P1", "L1P1", "L2P1"],
+            "positions": 1, "code_hash": "test", "scalars": table}  # fmt: skip
+    (out / "convergence" / "1-GB").mkdir(parents=True)
+    write_json(out / "convergence" / "1-GB" / STUDY_FILE, conv)
+    progress = Progress(out=io.StringIO(), err=io.StringIO())
+    summary = study_run.run_study("1-GA", out, level=0, positions=1, progress=progress)
+    return out, summary, row, table
+
+
+def test_a_convergence_run_measures_what_the_summary_reports(level0):
+    _, summary, row, _ = level0
+    reported = summary_scalars(summary, "single_pinion")
+    assert set(reported) == set(row["scalars"])
+    for key, value in reported.items():
+        # the same position solved twice in one process: the same numbers to round-off
+        assert row["scalars"][key] == pytest.approx(value, rel=1e-9, abs=1e-9), key
+
+
+def test_summary_carries_the_uncertainty_of_its_gear_set(level0):
+    out, summary, _, table = level0
+    on_disk = json.loads((out / "1-GA" / "summary.json").read_text())
+    assert on_disk["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L0P1"] > 0
+    assert on_disk["uncertainty_source"]["case"] == "1-GB"
+    assert on_disk["uncertainty_source"]["run"] == "L0P1"
+    assert on_disk["uncertainty_source"]["convergence_study"].endswith("1-GB/convergence.json")
+    text = write_report(out).read_text()
+    my = summary["My_pin"] * table["My_pin"]["uncertainty"]["L0P1"]
+    assert f"{summary['My_pin']:.1f} ± {my:.1f}" in text
+    assert "1-GA from" in text and "convergence study" in text

@@ -1,0 +1,164 @@
+"""The convergence study from its runs (postprocess.convergence_study, convergence_report) and
+the lookup of a summary's uncertainty (studies.uncertainty), on synthetic runs with known
+limits: no FE solve."""
+
+from __future__ import annotations
+
+import pytest
+
+from cases.study_case import load_study_case
+from meshing.sizing import LEVELS
+from postprocess.convergence_report import speed_error_chart, write_report
+from postprocess.convergence_study import recommend, scalar_table, target
+from studies.files import write_json
+from studies.uncertainty import STUDY_FILE, match_key, summary_uncertainty
+
+LIMITS = {
+    "My_pin": 40.0,
+    "M_LOA_sun": 30.0,
+    "Mz_pin": 0.0,
+    "ZS": -0.8,
+    "bending_stress.sun": 700.0,
+    "contact_stress.sun_pinion": 3000.0,
+}
+
+
+def _row(level: int, degree: int, seconds: float, gb: float) -> dict:
+    lv = LEVELS[level]
+    h, hf = lv.fine, lv.fillet
+    scale = 0.25 if degree == 2 else 1.0  # P2 at a level: a quarter of the P1 error
+    scalars = {
+        "My_pin": 40.0 * (1 - scale * 0.03 * h**2),  # 3 % low at level 0, order 2
+        "M_LOA_sun": 30.0 * (1 + scale * 0.02 * h**1.5),
+        "Mz_pin": 1e-11 * (1 + level),  # round-off of a free spin
+        "ZS": -0.8 + scale * 0.1 * h,
+        "bending_stress.sun": 700.0 * (1 - scale * 0.1 * hf),  # fillet size, order 1
+        "contact_stress.sun_pinion": 3000.0 * (1 + 0.1 * (-1) ** level),  # an edge peak
+        "bending_stress_iso6336_nominal.sun": 650.0,
+    }
+    return {
+        "label": f"L{level}P{degree}",
+        "level": level,
+        "degree": degree,
+        "dofs": int(2e5 / h**3),
+        "h_mm": {"fine": h, "fillet": hf},
+        "grid_points_total": 100,
+        "time_s": {"total": seconds, "factorization": 1.0, "compliance": 1.0},
+        "peak_rss_mb": gb * 1024,
+        "scalars": scalars,
+    }
+
+
+ROWS = [_row(0, 1, 10, 3.5), _row(1, 1, 20, 4.5), _row(2, 1, 110, 9.9), _row(0, 2, 130, 14)]
+
+
+def test_table_extrapolates_each_scalar_with_its_own_h():
+    table = scalar_table(ROWS)
+    for key in ("My_pin", "M_LOA_sun", "ZS", "bending_stress.sun"):
+        assert table[key]["status"] == "monotone"
+        assert table[key]["extrapolated"] == pytest.approx(LIMITS[key], rel=1e-8, abs=1e-10)
+    assert table["My_pin"]["order"] == pytest.approx(2.0, abs=1e-6)
+    assert table["bending_stress.sun"]["order"] == pytest.approx(1.0, abs=1e-6)  # fillet h
+    assert table["contact_stress.sun_pinion"]["status"] == "oscillatory"
+    assert table["bending_stress_iso6336_nominal.sun"]["status"] == "mesh-independent"
+    assert table["Mz_pin"]["uncertainty"]["L1P1"] is None  # zero by physics: no relative
+    assert table["Mz_pin"]["target"] is None
+    # P2 off the ladder: a quarter of the level-0 P1 error
+    e0, e2 = table["My_pin"]["rel_error"]["L0P1"], table["My_pin"]["rel_error"]["L0P2"]
+    assert e2 == pytest.approx(e0 / 4, rel=1e-6)
+
+
+def test_targets_leave_edge_peaks_and_offsets_out():
+    assert target("My_pin") == 0.01 and target("bending_stress.sun") == 0.05
+    assert target("contact_stress_cycle.sun_pinion.interior_p_max_MPa") == 0.05
+    for key in (
+        "ZS",
+        "contact_stress.sun_pinion",
+        "contact_stress_cycle.sun_pinion.p_max_MPa",
+        "contact_stress_cycle.sun_pinion.edge_p_max_MPa",
+        "contact_stress_cycle.sun_pinion.K_Hbeta",
+    ):
+        assert target(key) is None, key
+
+
+def test_recommendation_is_the_cheapest_run_meeting_the_targets():
+    table = scalar_table(ROWS)
+    rec = recommend(ROWS, table)
+    by = {v["run"]: v for v in rec["runs"]}
+    # level 0: My_pin 3 %, root stress 6 % off; level 1: My_pin 1.5 %; level 2: 0.6 %, 3 %
+    assert not by["L0P1"]["meets"] and "My_pin" in by["L0P1"]["failing"]
+    assert not by["L1P1"]["meets"]
+    assert by["L2P1"]["meets"]
+    assert rec["recommended"]["run"] == "L2P1"  # cheaper than L0P2
+    assert "L2P1" in rec["note"]
+
+
+def test_report_and_chart(tmp_path):
+    table = scalar_table(ROWS)
+    conv = {
+        "case": "1-GB",
+        "match": {"gearset": "case1", "scene": "one_branch"},
+        "positions_note": "One position.",
+        "ladder_degree": 1,
+        "runs": ROWS,
+        "skipped": [{"label": "L1P2", "level": 1, "degree": 2, "why": "memory"}],
+        "scalars": table,
+        "recommendation": recommend(ROWS, table),
+    }
+    assert speed_error_chart(conv, tmp_path / "speed_error.png")
+    text = write_report(conv, tmp_path).read_text()
+    assert "**Recommendation:** L2P1" in text and "skipped: memory" in text
+    assert "oscillatory" in text and "speed_error.png" in text
+
+
+def test_summary_finds_the_study_of_its_gear_set(tmp_path):
+    table = scalar_table(ROWS)
+    gb, ga = load_study_case("1-GB"), load_study_case("1-GA")
+    conv = {
+        "case": "1-GB",
+        "match": match_key(gb),
+        "labels": [r["label"] for r in ROWS],
+        "positions": 1,
+        "code_hash": "x",
+        "scalars": table,
+    }
+    (tmp_path / "convergence" / "1-GB").mkdir(parents=True)
+    write_json(tmp_path / "convergence" / "1-GB" / STUDY_FILE, conv)
+    got = summary_uncertainty(ga, 1, 1, tmp_path)  # 1-GA shares the gear set and scene
+    assert got["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L1P1"]
+    assert "1-GB" in got["uncertainty_source"]["convergence_study"]
+    assert "bending_stress_iso6336_nominal.sun" not in got["uncertainty"]
+    missing = summary_uncertainty(ga, 3, 1, tmp_path)
+    assert (
+        missing["uncertainty"] is None
+        and "no run at level 3" in (missing["uncertainty_source"]["note"])
+    )
+    case2 = summary_uncertainty(load_study_case("2B-GA"), 1, 1, tmp_path)
+    assert case2["uncertainty"] is None and "gear set case2" in case2["uncertainty_source"]["note"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["1-GB", "--levels", "0", "1"], "--levels"),
+        (["1-GB", "--extra", "0:3"], "--extra '0:3': the degree must be 1 or 2"),
+        (["1-GB", "--extra", "x"], "must be LEVEL:DEGREE"),
+        (["1-GB", "--levels", "0", "1", "9"], "level = 9"),
+        (["no-such-case"], "no-such-case"),
+    ],
+)
+def test_convergence_cli_refuses_bad_input(argv, message, capsys, tmp_path):
+    from studies.convergence import main
+
+    assert main([*argv, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and message in err and len(err.strip().splitlines()) == 1
+    assert not any(tmp_path.iterdir())  # nothing solved, nothing written
+
+
+def test_failed_child_is_a_row_with_its_error():
+    from studies.position_runs import run_child
+
+    row = run_child("studies.convergence", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120)
+    assert row["level"] == 0 and "exit code" in row["error"]
+    assert any("no-such-case" in line for line in row["stderr_tail"])

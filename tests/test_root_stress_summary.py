@@ -1,0 +1,57 @@
+"""The root stress of a summary is the maximum over the mesh cycle (postprocess.summary.
+cycle_bending), and the report section prints it beside ISO (postprocess.stress_tables)."""
+
+import pytest
+
+from cases.study_case import load_study_case
+from postprocess.mesh_stress import iso_root_stress_factors
+from postprocess.stress_tables import contact_section, root_section
+from postprocess.summary import cycle_bending
+
+
+def _pos(roll, sun, ring, tan, cell, set_keys=None):
+    keys = {"sun": "sun", "ring": "ring"} if set_keys is None else set_keys
+    names = list(keys)
+    locs = {k: {"tooth": 3, "side": "pos", "z_mm": 1.5 * roll, "set_key": keys[k]} for k in names}
+    bs = {names[0]: sun, names[1]: ring, "tangent": dict(zip(names, tan, strict=True)),
+          "cell_max": dict(zip(names, cell, strict=True)), "locations": locs}  # fmt: skip
+    return {"roll": roll, "bending_stress": {**bs, "method": "x"}}
+
+
+def test_maximum_over_the_cycle_and_where():
+    recs = [_pos(0.0, 500.0, None, (480.0, None), (400.0, None)),
+            _pos(0.1, 520.0, 300.0, (470.0, 290.0), (410.0, 250.0)),
+            _pos(0.2, 510.0, 310.0, (490.0, 280.0), (390.0, 260.0))]  # fmt: skip
+    out = cycle_bending(recs)
+    assert out["bending_stress"] == {"sun": 520.0, "ring": 310.0}  # not the mean
+    assert out["bending_stress_tangent"] == {"sun": 490.0, "ring": 290.0}
+    assert out["bending_stress_cell"] == {"sun": 410.0, "ring": 260.0}
+    assert out["bending_stress_at"]["sun"]["position"] == 1
+    want = {"position": 2, "roll": 0.2, "tooth": 3, "side": "pos", "z_mm": pytest.approx(0.3)}
+    assert out["bending_stress_at"]["ring"] == want
+    assert "bending_stress_set" not in out  # one branch: the keys are the gear set's
+    assert cycle_bending([{"roll": 0.0}])["bending_stress"] is None
+
+
+def test_planets_are_reduced_to_gear_set_keys():
+    keys = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun"}
+    recs = [_pos(0.0, 500.0, 530.0, (1, 1), (1, 1), keys)]
+    assert cycle_bending(recs)["bending_stress_set"] == {"sun": 530.0}
+
+
+def test_report_sections_print_fe_beside_iso():
+    gs = load_study_case("1-GA").gearset
+    iso = iso_root_stress_factors(gs)
+    s = {"level": 1, "degree": 1, **cycle_bending([_pos(0.0, 600.0, 450.0, (580.0, 440.0),
+                                                         (500.0, 300.0))]),
+         "bending_stress_iso6336": iso,
+         "bending_stress_iso6336_nominal": {k: v["sigma_F0"] for k, v in iso.items()}}  # fmt: skip
+    text = "\n".join(root_section({"1-GA": s}, ("sun", "ring"), ["1-GA"]))
+    sun = iso["sun"]["sigma_F0"]
+    assert f"| 1-GA | 1 / 1 | sun | 600 | 3, pos, +0.0 | - | 580 | 500 | {sun:.0f} (" in text
+    assert f"| {600 / sun:.2f} | {580 / sun:.2f} |" in text
+    assert "| | ring | 450 |" in text
+    assert iso["ring"]["internal"] and not iso["sun"]["internal"]
+    # a summary without the contact cycle prints no row, and old summaries do not fail
+    assert len(contact_section({"1-GA": {}}, ("sun_pinion",), ["1-GA"])) > 5
+    assert root_section({"old": {"bending_stress": {"sun": 1.0}}}, ("sun",), ["old"])
