@@ -41,6 +41,8 @@ DEFAULT_AXIAL_STIFFNESS = 2.33e10
 DEGREES = (1, 2)
 PENALTY_FACTOR_RANGE = (1.0, 1e6)  # inclusive
 GRID_SPACING_RANGE = (0.01, 5.0)  # mm, open below, closed above
+CONTACT_MODELS = ("line", "zone")
+ZONE_GAP_RANGE = (1.0, 500.0)  # um, inclusive
 
 
 def _real(value) -> bool:
@@ -88,6 +90,16 @@ class Numerics:
     # Contact grid point spacing along the contact line, mm, in GRID_SPACING_RANGE;
     # None: the flank element size of the mesh level.
     grid_spacing: float | None = None
+    # Contact model, one of CONTACT_MODELS: "line" (one row of points on the theoretical
+    # contact lines, a penalty spring each, every point one FE column) or "zone" (a grid over
+    # the whole potential contact zone of the drive flanks, the FE compliance on one point
+    # per section, the local compliance from Boussinesq half-space coefficients, exact
+    # contact; solvers.flank_grid.zone_grid, solvers.contact eq. (5)).
+    contact_model: str = "line"
+    # "zone": grid points are laid where the unloaded separation (modifications included) is
+    # below this (um), ZONE_GAP_RANGE: a few times the largest approach under load (Hertz +
+    # bending + mismatch, 10-20 um for these gears).
+    zone_gap_limit_um: float = 40.0
 
     def __post_init__(self):
         d = self.degree
@@ -109,6 +121,18 @@ class Numerics:
                     "or omitted for the flank element size of the mesh level"
                 )
             object.__setattr__(self, "grid_spacing", float(s))
+        if self.contact_model not in CONTACT_MODELS:
+            raise CaseError(
+                f"numerics.contact_model = {self.contact_model!r}: must be one of "
+                f"{', '.join(repr(m) for m in CONTACT_MODELS)}"
+            )
+        g = self.zone_gap_limit_um
+        lo, hi = ZONE_GAP_RANGE
+        if not _real(g) or not lo <= g <= hi:
+            raise CaseError(
+                f"numerics.zone_gap_limit_um = {g!r}: must be a number in [{lo:g}, {hi:g}] um"
+            )
+        object.__setattr__(self, "zone_gap_limit_um", float(g))
 
 
 DEFAULTS = Numerics()

@@ -144,3 +144,52 @@ def line_grid_2d(
         half_sizes=np.full((n, 1), spacing / 2),
         n_spread=n_spread,
     )
+
+
+@dataclass(frozen=True, eq=False)
+class ZoneLink:
+    """How a fine zone grid (:func:`solvers.flank_grid.zone_grid`) couples to the FE.
+
+    The FE compliance is formed only on the ``coarse`` grid (one point per section and tooth
+    pair, on the closest-approach curve) and carried to the fine points by ``parent`` (fine
+    row -> coarse row, piecewise constant: every fine point of a section takes its section's
+    coarse column). The near field comes from Boussinesq coefficients
+    (:mod:`solvers.halfspace`) in the flank's developed plane: ``plane`` (n, 2) = (u along the
+    contact line, v across it along the profile, mm) with half sizes ``half`` (n, 2) for the
+    fine patches, ``plane_coarse`` / ``half_coarse`` for the coarse ones, and half-space
+    coupling only inside one tooth pair (``group`` / ``group_coarse``). The FE and the
+    half-space are matched at the depths ``depth_a`` / ``depth_b`` below each coarse point
+    inside body A / B (x_a - d_a n, x_b + d_b n), where the FE resolves the field of a coarse
+    patch; see eq. (5) of :mod:`solvers.contact`.
+    """
+
+    coarse: ContactGrid
+    parent: np.ndarray  # (n,) int, coarse row of each fine point
+    plane: np.ndarray  # (n, 2)
+    half: np.ndarray  # (n, 2)
+    plane_coarse: np.ndarray  # (n_c, 2)
+    half_coarse: np.ndarray  # (n_c, 2)
+    group: np.ndarray  # (n,) tooth pair of each fine point
+    group_coarse: np.ndarray  # (n_c,)
+    depth_a: np.ndarray  # (n_c,) matching depth below the coarse point in body A (mm)
+    depth_b: np.ndarray  # (n_c,) the same in body B
+
+    def __post_init__(self):
+        n, nc = len(self.parent), self.coarse.n
+        ok = (
+            np.shape(self.plane) == (n, 2)
+            and np.shape(self.half) == (n, 2)
+            and np.shape(self.plane_coarse) == (nc, 2)
+            and np.shape(self.half_coarse) == (nc, 2)
+            and np.shape(self.group) == (n,)
+            and np.shape(self.group_coarse) == (nc,)
+            and np.shape(self.depth_a) == (nc,)
+            and np.shape(self.depth_b) == (nc,)
+        )
+        if not ok:
+            raise ValueError(f"zone link of '{self.coarse.name}': array shapes disagree")
+        p = np.asarray(self.parent)
+        if n and (p.min() < 0 or p.max() >= nc):
+            raise ValueError(f"zone link of '{self.coarse.name}': parent out of range")
+        if np.any(np.asarray(self.group_coarse)[p] != np.asarray(self.group)):
+            raise ValueError(f"zone link of '{self.coarse.name}': parent in another tooth pair")

@@ -10,12 +10,18 @@ of tooth j touches the plane of action at roll
 
     t(z) = s (tau - theta0_j - k z),      p(z) = T + r_b t(z) d + z e_z,                (1)
 
-a straight line (t is linear in z). It is clipped to the common face width |z| <= b/2 and to
-the zone's contact window (driver roll length between the driven gear's tip / the driver's
-form circle and the driver's tip, ``zone.window``), then split into n = round(L / h)
-equal segments (L its length, h the flank element size of the level); a grid point sits at
-each segment's midpoint and stands for the patch (segment length) x (width across, default
-h), spread over that patch by the gap operator (patch-averaged rows, see
+a straight line (t is linear in z). Spur gear (k = 0, beta_b = 0): t(z) = s (tau - theta0_j)
+is constant, the line is parallel to the axis at that roll and lies in the window over the
+whole face or not at all,
+
+    p(z) = T + r_b t d + z e_z (|z| <= b/2)  if t_lo <= t <= t_hi,  n = d,            (1a)
+
+the limit k -> 0 of (1) and of the normal below. It is clipped to the common face width
+|z| <= b/2 and to the zone's contact window (driver roll length between the driven gear's
+tip / the driver's form circle and the driver's tip, ``zone.window``), then split into
+n = round(L / h) equal segments (L its length, h the flank element size of the level); a
+grid point sits at each segment's midpoint and stands for the patch (segment length) x
+(width across, default h), spread over that patch by the gap operator (patch-averaged rows, see
 :mod:`solvers.contact_grid`).
 
 Normal (derivation and sign). The involute helicoid's normals lie in the plane of action
@@ -49,6 +55,13 @@ backlash j_n (plus the modifications of the coast flanks). It carries force only
 gap closes (penalty contact with an active set, :mod:`solvers.contact`): an overturned
 pinion whose tilt across the face exceeds the backlash loads its coast flanks; otherwise they
 stay open. :func:`flank_contact_pairs` puts the coast pairs after all drive pairs.
+
+Zone grid (``[numerics] contact_model = "zone"``, :func:`zone_grid`). Instead of one row on
+the theoretical lines, the drive flanks get a grid over the whole potential contact zone:
+per transverse section and tooth pair within reach, cells across the contact line graded
+from half the Hertz semi-width to h / 2, wherever the unloaded separation is below
+``[numerics] zone_gap_limit_um``; its FE compliance comes from one coarse point per section
+and its near field from the half-space (eq. (5) of :mod:`solvers.contact`).
 """
 
 from __future__ import annotations
@@ -59,11 +72,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gears.material import STEEL
 from gears.microgeometry import flank_modification
 from gears.profile import involute_deviation
 from meshing.mesh_zones import coast_zone, flank_of
 from solvers.contact import ContactPair
-from solvers.contact_grid import ContactGrid
+from solvers.contact_grid import ContactGrid, ZoneLink
 
 #: grid-name suffix of the coast-flank grids ("sun-pinion/coast", ``MeshZone.name``)
 COAST = "/coast"
@@ -104,7 +118,8 @@ def _room(x: np.ndarray, u: np.ndarray, pg, half: float, n: int = 41) -> np.ndar
     r_lo, r_hi = r_lo + EDGE_MARGIN, r_hi - EDGE_MARGIN
     c = np.array([*pg.placement.centre])
     s = np.linspace(-half, half, n)
-    q = x[:, None, :2] - c + s[None, :, None] * u[None, None, :2]
+    u = np.broadcast_to(u, np.shape(x))  # one direction, or one per point
+    q = x[:, None, :2] - c + s[None, :, None] * u[:, None, :2]
     r = np.linalg.norm(q, axis=2)
     bad = (r < r_lo) | (r > r_hi)  # (m, n)
     dist = np.where(bad, np.abs(s)[None, :], np.inf).min(axis=1)
@@ -154,7 +169,10 @@ def flank_grid(
         theta0 = fa.theta0 + j_a * pitch + drv.placement.angle
         t0 = s * ((((zone.tau - theta0) + math.pi) % (2 * math.pi)) - math.pi)
         c = -s * k  # dt/dz
-        za, zb = sorted(((t_lo - t0) / c, (t_hi - t0) / c))
+        if c == 0.0:  # spur, eq. (1a): the whole face or nothing
+            za, zb = (-math.inf, math.inf) if t_lo <= t0 <= t_hi else (0.0, 0.0)
+        else:
+            za, zb = sorted(((t_lo - t0) / c, (t_hi - t0) / c))
         z0, z1 = max(za, -0.5 * b), min(zb, 0.5 * b)
         if z1 - z0 <= 1e-9:
             continue
@@ -208,9 +226,332 @@ def flank_grid(
     return grid, info
 
 
+#: contact stress (MPa) whose Hertz semi-width the zone grid resolves near the contact line
+DESIGN_CONTACT_STRESS = 1500.0
+#: growth ratio of the zone grid's cells across the contact line, away from it
+ZONE_GROWTH = 1.3
+#: profile samples per section when searching the closest point of a tooth pair
+ZONE_SAMPLES = 400
+
+
+def _rotate(xy: np.ndarray, c: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Points or vectors xy (..., 2) turned by phi (...) about c (c = 0 for vectors)."""
+    cs, sn = np.cos(phi), np.sin(phi)
+    x, y = xy[..., 0] - c[0], xy[..., 1] - c[1]
+    return np.stack([cs * x - sn * y + c[0], sn * x + cs * y + c[1]], axis=-1)
+
+
+#: matching depth of the zone grid's FE far field below a coarse point, in coarse widths
+MATCHING_DEPTH = 1.0
+
+
+def _matching_depth(pg, other_side: str, x: np.ndarray, inward: np.ndarray, width: float):
+    """Depth d (mm) below flank points x along ``inward`` (unit, into the tooth) where the
+    FE and the half-space are matched: MATCHING_DEPTH x the coarse patch width, halved
+    (at most 6 times) while the point would come closer than d / 4 to the tooth's other
+    flank (``other_side``) or below the base circle, i.e. near a thin tip."""
+    g = pg.gear
+    d = np.full(len(x), MATCHING_DEPTH * width)
+    for _ in range(6):
+        y = pg.placement.inverse(x + d[:, None] * inward)
+        ok = np.hypot(y[:, 0], y[:, 1]) > g.base_radius * (1 + 1e-9)
+        dev = np.full(len(x), np.inf)
+        dev[ok] = involute_deviation(g, y[ok], other_side)
+        bad = dev > -0.25 * d
+        if not bad.any():
+            break
+        d[bad] *= 0.5
+    return d
+
+
+def _vertex(v: np.ndarray, g: np.ndarray) -> float:
+    """Abscissa of the vertex of the parabola through three points (v, g), kept within
+    the outer two (the sampled minimum refined to below the sample spacing)."""
+    d1, d2 = v[1] - v[0], v[1] - v[2]
+    num = d1 * d1 * (g[1] - g[2]) - d2 * d2 * (g[1] - g[0])
+    den = d1 * (g[1] - g[2]) - d2 * (g[1] - g[0])
+    if den == 0.0:
+        return float(v[1])
+    return float(np.clip(v[1] - 0.5 * num / den, v[0], v[2]))
+
+
+def _cells(v_c: float, d0: float, dmax: float, lo: float, hi: float) -> np.ndarray:
+    """Cell boundaries across the line: a cell of width d0 centred on v_c, then cells growing
+    by ZONE_GROWTH up to dmax on both sides, clipped to [lo, hi]."""
+    right, left = [v_c + d0 / 2], [v_c - d0 / 2]
+    w = d0
+    while right[-1] < hi or left[-1] > lo:
+        w = min(w * ZONE_GROWTH, dmax)
+        right.append(right[-1] + w)
+        left.append(left[-1] - w)
+    e = np.clip(np.array(left[::-1] + right), lo, hi)
+    return np.unique(e)
+
+
+def zone_grid(
+    zone,
+    drv,
+    dvn,
+    spacing: float,
+    width: float | None = None,
+    micro: Callable | None = None,
+    n_spread: int = 2,
+    modifications: Mapping | None = None,
+    gap_limit: float = 0.04,
+) -> tuple[ContactGrid, FlankGridInfo, ZoneLink]:
+    """Contact grid over the whole potential contact zone of a mesh zone (drive view).
+
+    Flank parameters. The driver's flank point that reaches the plane of action after the
+    driver turns on by a roll Delta = t' - t(z) lies now at
+
+        q(z, t') = Rot_z(s (t' - t(z))) (T + r_b t' d) + z e_z,   n_q = Rot_z(s (t' - t(z))) n,
+
+    the rotation about the driver's axis, t(z) of eq. (1), t' the driver's roll from its form
+    to its tip circle (0.02 mm margin): a transverse section z is the exact involute, and
+    n_q the exact flank normal (the helicoid's normals lie in the turned plane of action).
+    The separation is the distance along the normal to the driven flank (x_b = q + dev_B n
+    on it, by fixed-point steps on ``involute_deviation``), only where q lies between the
+    driven gear's form and tip circles (margins as in :func:`flank_grid`). The grid points
+    carry the plane of action's normal n, the line grid's: off the line the flank normal
+    n_q turns by v / rho (<= 2 deg over a Hertz band of +-0.3 mm at rho >= 10 mm), which
+    changes the approach by 1 - cos, and the force components across cancel over a band
+    symmetric about the line; every grid point then has one normal per pair, as consumers
+    of the line grid expect (``normals[0]``). The closest-point search uses n_q.
+
+    Grid. Per tooth pair within reach (every driver tooth whose roll t(z) lies within one
+    base pitch of the contact window somewhere on the face, so at least one pair beyond the
+    theoretical path each side) and per transverse section z_i (b / dz = round(b N / h)
+    sections across the common face width b, where both flanks exist; the wider gear's
+    overhang acts through its FE body; N = sqrt(1 + (k r_b)^2), each standing for the
+    length seg = dz N along the contact line): g0(t') = dev_A + dev_B + mod_A + mod_B
+    (+ micro) on ZONE_SAMPLES points; the section is centred on its smallest g0, and cut
+    across the line (along the profile arc v = r_b (t'^2 - t(z)^2) / 2, the distance from
+    the contact line on the developed flank) into cells of width d0 at the centre growing by
+    ZONE_GROWTH to h / 2. d0 = a_H / 2 with the Hertz semi-width a_H = 2 R p_d / E* of steel at
+    the design contact stress p_d = DESIGN_CONTACT_STRESS, R the relative radius of curvature
+    there (1/R = 1/rho_a +- 1/rho_b, rho the roll lengths). A cell is kept where g0 at its
+    centre is below ``gap_limit`` (mm). It stands for the patch seg x (cell width) and is
+    spread over it by the gap operator as the line grid's points are. The cells end 0.02 mm
+    inside the tip and form circles of both gears (the tooth models have sharp tips, no tip
+    rounding), so tip and corner contact beyond the path is caught by the last cells there.
+
+    Coarse grid (FE far field, :class:`solvers.contact_grid.ZoneLink`): one point per kept
+    section and tooth pair at the section's centre (the theoretical contact line on pairs in
+    the path), patch seg x ``width`` (default h) along the turned line and across, narrowed
+    at tips as in :func:`flank_grid`; every fine point of the section takes its column. The
+    matching depth below it in each tooth (:func:`_matching_depth`): one coarse width, less
+    near a thin tip.
+    Independent of the FE mesh: h only sets the coarse spacing.
+    """
+    w_across = spacing if width is None else width
+    ga, gb = drv.gear, dvn.gear
+    fa = flank_of(ga, zone.driver_side)
+    s, rb = fa.s, fa.rb
+    k = _helix_rate(ga)
+    nn = math.sqrt(1.0 + (k * rb) ** 2)
+    d = np.array([*zone.direction, 0.0])
+    ez = np.array([0.0, 0.0, 1.0])
+    T0 = np.array([*zone.tangency, 0.0])
+    n = (d + s * k * rb * ez) / nn
+    tline = (-s * k * rb * d + ez) / nn
+    t2 = np.cross(n, tline)
+    ca = np.array([*drv.placement.centre])
+    cb = np.array([*dvn.placement.centre])
+    b = min(ga.face_width, gb.face_width)
+    m_z = max(1, round(b * nn / spacing))
+    dz = b / m_z
+    zc = -0.5 * b + (np.arange(m_z) + 0.5) * dz
+    seg = dz * nn
+    ra = (ga.form_radius + EDGE_MARGIN, ga.tip_radius - EDGE_MARGIN)
+    rb_lo, rb_hi = sorted((gb.form_radius, gb.tip_radius))
+    rb_lo, rb_hi = rb_lo + EDGE_MARGIN, rb_hi - EDGE_MARGIN
+    # samples uniform in the involute arc sigma = r_b t^2 / 2
+    sig = np.linspace(*(0.5 * (r * r - rb * rb) / rb for r in ra), ZONE_SAMPLES)
+    t_s = np.sqrt(2.0 * sig / rb)
+    t_lo, t_hi = (w / rb for w in zone.window)
+    pitch = 2 * math.pi / ga.teeth
+    c_dt = -s * k  # dt/dz
+    g_len = zone.centre_distance * math.sin(zone.pressure_angle)
+    e_star = STEEL.youngs_modulus / (2.0 * (1.0 - STEEL.poisson_ratio**2))
+    mods = modifications or {}
+    dmax = 0.5 * spacing
+
+    def flank_points(z, tp, tz):
+        """q, n_q, tangents (tline, t2) turned, at sections z (m,) and rolls tp (m,)."""
+        phi = s * (tp - tz)
+        p2 = T0[None, :2] + (rb * tp)[:, None] * d[None, :2]
+        q = np.c_[_rotate(p2, ca[:2], phi), z]
+
+        def turn(vec):
+            xy = _rotate(np.broadcast_to(vec[:2], (len(phi), 2)), (0.0, 0.0), phi)
+            return np.c_[xy, np.full(len(phi), vec[2])]
+
+        return q, turn(n), turn(tline), turn(t2)
+
+    def separation(q, nq):
+        """dev_A, the ray distance from q along n_q to the driven flank (two fixed-point
+        steps on the normal distance; the normals differ by ~ v / rho off the line), the
+        modifications and their sum with micro."""
+        la, lb = drv.placement.inverse(q), dvn.placement.inverse(q)
+        dev_a = involute_deviation(ga, la, zone.driver_side)
+        dev_b = involute_deviation(gb, lb, zone.driven_side)
+        for _ in range(3):
+            xb = dvn.placement.inverse(q + dev_b[:, None] * nq)
+            # mm; the rest lies far beyond any gap limit (or off the helicoid)
+            near = (np.abs(dev_b) < 0.5) & (np.hypot(xb[:, 0], xb[:, 1]) > gb.base_radius)
+            dev_b[near] += involute_deviation(gb, xb[near], zone.driven_side)
+        mod_a = flank_modification(ga, mods.get(drv.gear_name), zone.driver_side, la)
+        mod_b = flank_modification(gb, mods.get(dvn.gear_name), zone.driven_side, lb)
+        mic = mod_a + mod_b
+        if micro is not None:
+            mic = mic + np.asarray(micro(zone, q), float).reshape(len(q))
+        return dev_a, dev_b, mod_a, mod_b, mic
+
+    fine: dict[str, list] = {key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp")}
+    coarse: dict[str, list] = {key: [] for key in ("z", "t", "tz", "v", "grp")}
+    lines = []
+    n_fine = 0
+    for j_a in range(ga.teeth):
+        theta0 = fa.theta0 + j_a * pitch + drv.placement.angle
+        t0 = s * ((((zone.tau - theta0) + math.pi) % (2 * math.pi)) - math.pi)
+        tz = t0 + c_dt * zc
+        if tz.max() < t_lo - pitch or tz.min() > t_hi + pitch:
+            continue  # beyond reach: more than a base pitch outside the window
+        Z = np.repeat(zc, ZONE_SAMPLES)
+        TP = np.tile(t_s, m_z)
+        TZ = np.repeat(tz, ZONE_SAMPLES)
+        q, nq_s, _, _ = flank_points(Z, TP, TZ)
+        rad_b = np.hypot(q[:, 0] - cb[0], q[:, 1] - cb[1])
+        okf = (rad_b >= rb_lo) & (rad_b <= rb_hi)
+        if not okf.any():
+            continue
+        ok = okf.reshape(m_z, ZONE_SAMPLES)
+        g = np.full(len(q), np.inf)
+        dev_a, dev_b, _, _, mic = separation(q[okf], nq_s[okf])
+        g[okf] = dev_a + dev_b + mic
+        g = g.reshape(m_z, ZONE_SAMPLES)
+        v = 0.5 * rb * (t_s[None, :] ** 2 - tz[:, None] ** 2)
+        grp = len(lines)
+        first = n_fine
+        z_used = []
+        for i in range(m_z):
+            if not ok[i].any():
+                continue
+            gi = np.where(ok[i], g[i], np.inf)
+            c_i = int(np.argmin(gi))
+            if gi[c_i] >= gap_limit:
+                continue
+            vi = v[i, ok[i]]
+            v_c = v[i, c_i]
+            if 0 < c_i < ZONE_SAMPLES - 1 and np.isfinite(gi[c_i - 1 : c_i + 2]).all():
+                v_c = _vertex(v[i, c_i - 1 : c_i + 2], gi[c_i - 1 : c_i + 2])
+            t_c = math.sqrt(2.0 * v_c / rb + tz[i] ** 2)
+            rho_a = rb * t_c
+            rho_b = g_len + rho_a if zone.internal else max(g_len - rho_a, 0.1 * rho_a)
+            curv = 1.0 / rho_a + (-1.0 if zone.internal else 1.0) / rho_b
+            d0 = float(np.clip(DESIGN_CONTACT_STRESS / (e_star * curv), 0.01, dmax))
+            edges = _cells(v_c, d0, dmax, vi.min(), vi.max())
+            vc = 0.5 * (edges[1:] + edges[:-1])
+            dv = np.diff(edges)
+            gc = np.interp(vc, vi, g[i, ok[i]])
+            keep = (gc < gap_limit) & (dv > 0.05 * d0)
+            if not keep.any():
+                continue
+            sec = len(coarse["z"])
+            coarse["z"].append(zc[i])
+            coarse["t"].append(t_c)
+            coarse["tz"].append(tz[i])
+            coarse["v"].append(v_c)
+            coarse["grp"].append(grp)
+            m = int(keep.sum())
+            fine["z"].append(np.full(m, zc[i]))
+            fine["t"].append(np.sqrt(2.0 * vc[keep] / rb + tz[i] ** 2))  # v -> t'
+            fine["tz"].append(np.full(m, tz[i]))
+            fine["dv"].append(dv[keep])
+            fine["v"].append(vc[keep])
+            fine["sec"].append(np.full(m, sec))
+            fine["grp"].append(np.full(m, grp))
+            n_fine += m
+            z_used.append(zc[i])
+        if n_fine == first:
+            continue
+        lines.append(
+            {
+                "driver_tooth": int(j_a),
+                "driven_tooth": -1,  # set below from the points
+                "rows": (first, n_fine),
+                "length": float(len(z_used) * seg),
+                "spacing": float(seg),
+                "z_range": (float(min(z_used) - dz / 2), float(max(z_used) + dz / 2)),
+            }
+        )
+    if not lines:
+        raise ValueError(f"zone {zone.name}: no flank point within {gap_limit * 1e3:g} um")
+    F = {key: np.concatenate(val) for key, val in fine.items()}
+    x, _, tl, tt = flank_points(F["z"], F["t"], F["tz"])
+    nq = np.tile(n, (len(x), 1))  # the plane of action's normal (docstring)
+    dev_a, dev_b, mod_a, mod_b, mic = separation(x, nq)
+    m = len(x)
+    C = {key: np.asarray(val) for key, val in coarse.items()}
+    xc, _, tlc, ttc = flank_points(C["z"], C["t"], C["tz"])
+    nc = np.tile(n, (len(xc), 1))
+    dva_c, dvb_c, _, _, mic_c = separation(xc, nc)
+    pitch_b = 2 * math.pi / gb.teeth
+    sb = 1 if zone.driven_side == "pos" else -1
+    for ln in lines:
+        a, e = ln["rows"]
+        local = dvn.placement.inverse(x[a:e])
+        th = np.arctan2(local[:, 1], local[:, 0]) - gb.helix_rotation(local[:, 2])
+        ln["driven_tooth"] = int(np.round(np.median(th) / pitch_b - 0.25 * sb)) % gb.teeth
+    mc = len(xc)
+    depth_a = _matching_depth(drv, zone.coast_sides[0], xc, -nc, w_across)
+    depth_b = _matching_depth(dvn, zone.coast_sides[1], xc + dvb_c[:, None] * nc, nc, w_across)
+    half_c = np.minimum(_room(xc, ttc, drv, 0.5 * w_across), _room(xc, ttc, dvn, 0.5 * w_across))
+    coarse_grid = ContactGrid(
+        f"{zone.name}#coarse",
+        xc,
+        xc + dvb_c[:, None] * nc,
+        nc,
+        dva_c + dvb_c + mic_c,
+        np.full(mc, seg * w_across),
+        tangents=np.stack([tlc, ttc], axis=1),
+        half_sizes=np.c_[np.full(mc, 0.5 * seg), half_c],
+        stations=np.arange(mc),
+        station_length=np.full(mc, seg),
+        n_spread=n_spread,
+    )
+    grid = ContactGrid(
+        zone.name,
+        x,
+        x + dev_b[:, None] * nq,
+        nq,
+        dev_a + dev_b + mic,
+        seg * F["dv"],
+        tangents=np.stack([tl, tt], axis=1),
+        half_sizes=np.c_[np.full(m, 0.5 * seg), 0.5 * F["dv"]],
+        stations=F["sec"].astype(int),
+        station_length=np.full(mc, seg),
+        n_spread=n_spread,
+    )
+    link = ZoneLink(
+        coarse_grid,
+        F["sec"].astype(int),
+        np.c_[nn * F["z"], F["v"]],
+        np.c_[np.full(m, 0.5 * seg), 0.5 * F["dv"]],
+        np.c_[nn * C["z"], C["v"]],
+        np.c_[np.full(mc, 0.5 * seg), half_c],
+        F["grp"].astype(int),
+        C["grp"].astype(int),
+        depth_a,
+        depth_b,
+    )
+    info = FlankGridInfo(lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks)
+    return grid, info, link
+
+
 def flank_contact_pairs(
     scene, spacing: float, width, micro, *, modifications: Mapping | None = None,
-    coast: bool = True,
+    coast: bool = True, contact_model: str = "line", gap_limit: float = 0.04,
 ):  # fmt: skip
     """Contact grids on the exact theoretical contact lines of every mesh zone of the scene,
     and the contact pairs (driver, driven) that carry them: the drive-flank pairs of every
@@ -219,16 +560,28 @@ def flank_contact_pairs(
     Returns ``(grids, pairs)``, ``grids`` by grid name: ``driver-driven`` (drive flanks) and
     ``driver-driven/coast`` (coast flanks), each (grid, :class:`FlankGridInfo`).
     ``modifications``: the gear set's flank modifications by gear name
-    (:attr:`cases.gearset.GearSet.modifications`)."""
+    (:attr:`cases.gearset.GearSet.modifications`). ``contact_model`` "zone"
+    (:attr:`cases.study_case.Numerics.contact_model`): the drive flanks get
+    :func:`zone_grid` (points where g0 < ``gap_limit`` mm) with its FE link; the coast
+    flanks, open by the backlash, keep their contact-line grids."""
     views = list(scene.zones)
     if coast:
         views += [coast_zone(zn, scene.gear(zn.driver), scene.gear(zn.driven)) for zn in views]
     grids, pairs = {}, []
+    if contact_model not in ("line", "zone"):
+        raise ValueError(f"contact_model = {contact_model!r}: must be 'line' or 'zone'")
     for zn in views:
-        g, info = flank_grid(zn, scene.gear(zn.driver), scene.gear(zn.driven), spacing, width,
-                             micro, modifications=modifications)  # fmt: skip
+        drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
+        link = None
+        if contact_model == "zone" and zn.flanks == "drive":
+            g, info, link = zone_grid(zn, drv, dvn, spacing, width, micro,
+                                      modifications=modifications, gap_limit=gap_limit)  # fmt: skip
+        else:
+            g, info = flank_grid(zn, drv, dvn, spacing, width, micro,
+                                 modifications=modifications)  # fmt: skip
         grids[g.name] = (g, info)
-        pairs.append(ContactPair(g, zn.driver, zn.driven, standby=zn.flanks == "coast"))
+        pairs.append(ContactPair(g, zn.driver, zn.driven, standby=zn.flanks == "coast",
+                                 link=link))  # fmt: skip
     return grids, pairs
 
 

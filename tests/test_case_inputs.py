@@ -398,7 +398,10 @@ def test_study_inputs_are_json_with_resolved_data():
     inputs = study_inputs(load_study_case("1-GB"))
     assert json.loads(json.dumps(inputs, allow_nan=False)) == inputs
     sc, gs = inputs["study_case"], inputs["gearset"]
-    assert sc["numerics"] == {"degree": 1, "penalty_factor": 100.0, "grid_spacing": None}
+    assert sc["numerics"] == {
+        "degree": 1, "penalty_factor": 100.0, "grid_spacing": None,
+        "contact_model": "line", "zone_gap_limit_um": 40.0,
+    }  # fmt: skip
     assert sc["material"] == {
         "youngs_modulus": 206e3,
         "poisson_ratio": 0.3,

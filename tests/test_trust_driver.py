@@ -213,6 +213,18 @@ def test_misspelt_key_refused_by_the_driver(stub, tmp_path, capsys):
     assert stub.rolls == []
 
 
+def test_zone_contact_model_refused_not_run_as_line(stub, tmp_path, capsys):
+    """A case asking for the zone contact model must not run silently on line grids: the
+    driver's post-processing reads line grids only (issue 11)."""
+    text = Path(load_study_case("1-GA").path).read_text()
+    assert "[numerics]" in text
+    zone = tmp_path / "1-GA.toml"
+    zone.write_text(text.replace("[numerics]", '[numerics]\ncontact_model = "zone"'))
+    assert cli(tmp_path, zone) == 2
+    assert "numerics.contact_model = 'zone'" in one_error_line(capsys.readouterr().err)
+    assert stub.rolls == []
+
+
 @pytest.mark.parametrize("name", ["../escaped", ".", "a/../../escaped", "/escaped"])
 def test_output_folder_must_stay_inside_out(name, stub, tmp_path, capsys, monkeypatch):
     """Issue: a case name like ../../x wrote outside the output folder. The loader refuses
