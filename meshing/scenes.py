@@ -13,10 +13,12 @@ The registry :data:`SCENES` holds the scenes a study case may name (``model.scen
   (the teeth in contact, one more refined tooth each side, one more unrefined) and the full
   pinion(s). Three equal branches on a rigid carrier share the torque equally.
 * ``all_planets``: every branch at the carrier angles nearest to equal spacing that the
-  assembly condition allows (:func:`gears.analytic.phasing.assemblable_angles`), with the
-  full sun and ring; the pins are rigid.
+  assembly condition allows, in diametrically opposed pairs where the tooth numbers allow
+  (:func:`gears.analytic.phasing.assemblable_angles`), with the full sun and ring; the pins
+  are rigid.
 * ``system``: ``all_planets`` with the carrier as a body: two plates joined by posts, one
-  pin per pinion (:mod:`meshing.carrier`).
+  pin per pinion (single pinion) or an SP and an RP pin per branch (double pinion), in the
+  order of the scene's pinions (:mod:`meshing.carrier`).
 
 ``Scene.report()`` lists what each scene leaves out.
 """
@@ -27,10 +29,10 @@ import math
 from dataclasses import dataclass, field, replace
 
 from cases.study_case import SCENES as SCENE_NAMES
-from gears.analytic.phasing import assemblable_angles
+from gears.analytic.phasing import assemblable_angles, planet_layout
 from meshing import tags as T
 from meshing.assemble import Placement
-from meshing.carrier import carrier_spec
+from meshing.carrier import carrier_spec, sun_rp_angle
 from meshing.gear_body import GearBody
 from meshing.mesh_zones import (
     MeshZone,
@@ -220,8 +222,8 @@ def branch_centres(gearset, psi: float, rp_side: int = +1, radial_offset: float 
     if len(pinions) == 2:
         if rp_side not in (1, -1):
             raise MeshingError(f"rp_side = {rp_side!r}: must be +1 or -1")
-        a1, a2, a3 = a
-        psi_t = math.acos((a1 * a1 + a3 * a3 - a2 * a2) / (2 * a1 * a3))
+        a1, _, a3 = a
+        psi_t = sun_rp_angle(gearset)  # the carrier's pins use the same angle
         return [(a1 + radial_offset) * unit(psi), a3 * unit(psi + rp_side * psi_t)]
     raise MeshingError(
         f"{gearset.name}: power path {gearset.power_path}: scenes hold one or two pinions per "
@@ -343,7 +345,7 @@ def planetary_scene(
         a_deg = [round(math.degrees(x), 4) for x in angles]
         rule = "z_ring - z_sun" if double else "z_sun + z_ring"
         steps = ring.teeth - sun.teeth if double else ring.teeth + sun.teeth
-        spacing = "equally spaced" if steps % gearset.planets == 0 else "not equally spaced"
+        spacing = planet_layout(sun.teeth, ring.teeth, gearset.planets, double)
         spacing = "given" if planet_angles_deg is not None else spacing
         notes.append(
             f"planet angles (deg): {a_deg}; {rule} = {steps}, {gearset.planets} branches: "
@@ -370,7 +372,7 @@ def planetary_scene(
         full=full,
         radius_kw=radius_kw,
         left_out=left_out,
-        carrier=carrier_spec(gearset, pin_diameter) if carrier else None,
+        carrier=carrier_spec(gearset, pin_diameter, rp_side) if carrier else None,
         notes=notes,
         branches=len(angles),
         cover=cover,

@@ -261,11 +261,12 @@ def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face,
     w = {"SP": np.array([-c1, -s1, 0.0]), "RP": np.array([-c2, s2, 0.0])}
     u = -frames["SP"].T @ w["SP"]  # scene frame; equal to frames["RP"].T @ w["RP"]
     sides = {}
+    body = dict(zip(("SP", "RP"), out["pinion_bodies"], strict=True))  # role -> body name
     for (label, pn), (r_w, d) in pitch_points.items():
         M = train["meshes"][meshes[label]]
         Q = frames[pn]
         F = np.asarray(out[f"F_{label}_on_{pn}_N"], float)  # pinion frame
-        r = np.asarray(M["on"][pn]["centroid_mm"], float) @ Q.T  # from the pinion centre
+        r = np.asarray(M["on"][body[pn]]["centroid_mm"], float) @ Q.T  # from the centre
         t = np.array([F[0], F[1], 0.0]) / math.hypot(F[0], F[1])
         Z, s = float(r[2]), float(r @ t)
         r_pitch = r_w * d

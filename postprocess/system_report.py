@@ -5,16 +5,34 @@ is given (whatever has been run) and writes ``<system>/report.md``: the pinion m
 centroids and LOA moments of both scenes, what the system adds (load shares, K_gamma, the
 sun's float, the carrier's wind-up, the torque balance), the comparison of the case pair that
 separates gear stiffness from bearing stiffness (1-GB-R against 1-GC in the paper), and the
-loaded-scene pictures. Numbers come from the summaries alone, inputs included.
+loaded-scene pictures. Single-pinion sets report section 3's pinion moments; double-pinion
+sets (:data:`KIND_QUANTITIES`) section 5's SP and RP moments and the four LOA moments, per pair
+too, the carrier's six-pin layout and what the elastic carrier changes against the branch.
+Numbers come from the summaries alone, inputs included.
 """
 
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
-QUANTITIES = ("My_pin", "Mx_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring")
-UNITS = {"ZS": "mm", "ZR": "mm"}
+from postprocess.convergence import plus_minus, uncertainty_note
+
+#: the columns of the comparison, per gear-set kind (single pinion: section 3's pinion
+#: frame; double pinion: section 5's SP and RP frames and the four LOA moments)
+KIND_QUANTITIES = {
+    "single_pinion": ("My_pin", "Mx_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring"),
+    "double_pinion": ("Mx_SP", "My_SP", "Mx_RP", "My_RP", "ZS", "Z_SPRP", "ZR",
+                      "M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring"),
+}  # fmt: skip
+QUANTITIES = KIND_QUANTITIES["single_pinion"]
+OFFSETS = ("ZS", "Z_SPRP", "ZR")  # mm; the rest N m
+
+
+def summary_kind(s: dict) -> str:
+    """The gear-set kind of a summary (``single_pinion`` or ``double_pinion``)."""
+    return s["inputs"]["gearset"]["kind"]
 
 
 def _load(folder: Path, cases: list[str]) -> dict[str, dict]:
@@ -29,7 +47,12 @@ def _load(folder: Path, cases: list[str]) -> dict[str, dict]:
 def _fmt(q: str, v) -> str:
     if v is None:
         return "-"
-    return f"{v:+.2f}" if q in ("ZS", "ZR") else f"{v:.1f}"
+    return f"{v:+.2f}" if q in OFFSETS else f"{v:.1f}"
+
+
+def _pm(s: dict, q: str) -> str:
+    """`` ± u`` of quantity ``q`` of a summary (its discretisation uncertainty), or ''."""
+    return plus_minus(s, q, ".2f" if q in OFFSETS else ".1f") if s.get(q) is not None else ""
 
 
 def _inputs(s: dict) -> str:
@@ -39,6 +62,90 @@ def _inputs(s: dict) -> str:
             f"N mm/rad; gears E x {m['gear_modulus_factor']:g}")  # fmt: skip
 
 
+def _per_pair(system: dict, quantities) -> list[str]:
+    """Per pair of each case: angle, load share and the quantities (means over positions)."""
+    lines = ["", "### Per pair", "",
+             "| case | pair | angle (deg) | load share | " + " | ".join(quantities) + " |",
+             "|---|---|---|---|" + "---|" * len(quantities)]  # fmt: skip
+    for name, s in system.items():
+        for k, p in enumerate(s["pinions"]):
+            vals = " | ".join(_fmt(q, p.get(q)) for q in quantities)
+            lines.append(f"| {name} | {k + 1} | {p['angle_deg']:.3f} | {p['load_share']:.4f} | "
+                         f"{vals} |")  # fmt: skip
+    return lines
+
+
+def _double_pinion_text(branch: dict, system: dict) -> list[str]:
+    """The carrier layout (from the gear set's centre distances) and what the system scene
+    changes against the one-branch scene, case by case (numbers from the summaries)."""
+    s0 = next(iter(system.values()))
+    a1, a2, a3 = (m["centre_distance"] for m in s0["inputs"]["gearset"]["meshes"])
+    psi_t = math.degrees(math.acos((a1 * a1 + a3 * a3 - a2 * a2) / (2 * a1 * a3)))
+    lines = [
+        "",
+        f"Carrier: six pins, the SP pins {a1:g} mm from the sun axis (sun-SP centre distance) "
+        f"at the pair angles, the RP pins {a3:g} mm out (RP-ring centre distance) and "
+        f"{psi_t:.3f} deg ahead (the triangle's angle at the sun, from the three centre "
+        f"distances {a1:g}, {a2:g}, {a3:g} mm), one post per pair in the gap to the next pair, "
+        "clear of every SP and RP tip circle (`meshing.carrier.carrier_spec`).",
+    ]
+    for name, s in system.items():
+        b = branch.get(name)
+        if b is None:
+            continue
+        moved = {k: s[k] - b[k] for k in ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP",
+                                          "M_LOA_RP_ring")}  # fmt: skip
+        worst = max(moved, key=lambda k: abs(moved[k]))
+        lines += [
+            "",
+            f"{name}: from the branch to the system the LOA moments move by "
+            + ", ".join(f"{k} {v:+.1f}" for k, v in moved.items())
+            + f" N m (largest: {worst}); the SP-RP differential is "
+            f"{s['M_LOA_SPRP_diff']:.1f} N m in the system against {b['M_LOA_SPRP_diff']:.1f} "
+            f"in the branch. The carrier, held at the hub of one plate only, winds up by "
+            f"{s.get('carrier_windup_rad', 0.0) * 1e6:.0f} urad (mean pin rotation about the "
+            "sun axis) under the pin loads; the pins, anchored in both plates, follow the "
+            "plates' unequal wind-up and lean, which moves Mx of SP and RP most; in the branch "
+            "the pins are rigid.",
+        ]
+    return lines
+
+
+def _spacing_text(s: dict) -> list[str]:
+    """Why the load shares are what they are, from the set's planets and angles."""
+    gs = s["inputs"]["gearset"]
+    z = {n: g["teeth"] for n, g in gs["gears"].items()}
+    path, n = gs["power_path"], gs["planets"]
+    zs, zr = z[path[0]], z[path[-1]]
+    double = len(path) == 4
+    steps, rule = (zr - zs, "Zr - Zs") if double else (zs + zr, "Zs + Zr")
+    angles = [p["angle_deg"] for p in s["pinions"]]
+    if steps % n == 0:
+        phase = (zs * 360.0 / n / 360.0) % 1.0
+        return [
+            f"Load sharing: {rule} = {steps} is divisible by {n}: the "
+            f"{'pairs' if double else 'pinions'} are equally spaced "
+            f"({', '.join(f'{a:.3f}' for a in angles)} deg) and a floating sun balanced by "
+            f"{n} mesh forces, each along its branch's plane of action, shares the load "
+            f"equally by statics (three magnitudes, two force equations and the torque), "
+            f"although the branches sit at different mesh positions (the sun mesh of branch 2 "
+            f"lags branch 1 by Zs / {n} = {zs / n:.3f} teeth, {phase:.3f} of a mesh cycle) "
+            "and their moments differ. Only coast flanks that close (the summary's `coast`) "
+            "act on the sun too and could move the shares.",
+        ]
+    psi = math.radians(angles[1] - angles[0]) if len(angles) > 1 else 0.0
+    ratio = -2.0 * math.cos(psi)
+    return [
+        f"Load sharing: with a floating sun the three sun-mesh forces balance the sun, so the "
+        f"unequal spacing the assembly condition forces ({rule} = {steps} is not divisible "
+        f"by {n}) gives the pinion at 0 deg a share of 3 (-2 cos {math.degrees(psi):.3f} deg) "
+        f"/ (2 - 2 cos {math.degrees(psi):.3f} deg) = {3 * ratio / (ratio + 2):.3f} whatever "
+        "the stiffness, as long as only the drive flanks carry load: a property of the set, "
+        "not of the model. Where coast flanks close (the summary's `coast`), their forces act "
+        "on the sun too and the shares move.",
+    ]
+
+
 def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
                         pair: tuple[str, str] | None = None) -> Path:  # fmt: skip
     """Write ``system_dir/report.md``. ``pair``: (gears stiffer, bearing softer) cases whose
@@ -46,28 +153,50 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
     branch, system = _load(branch_dir, cases), _load(system_dir, cases)
     if not system:
         raise FileNotFoundError(f"no system-scene summary under {system_dir}")
+    kind = summary_kind(next(iter(system.values())))
+    quantities = KIND_QUANTITIES[kind]
+    if kind == "double_pinion":
+        intro = [
+            "# The system scene: every pinion pair on the elastic carrier",
+            "",
+            "Each case in the one-branch scene (one SP-RP pair on rigid pins, sun held, sectors",
+            "of sun and ring) and in the system scene (sun floating radially, the three pairs at",
+            "the assemblable angles, full ring held at its rim, the steel carrier with an SP and",
+            "an RP pin per pair, each pinion on its own pin through its needle bearing, held at",
+            "the hub of its -z plate; the gears' modulus factor does not apply to the carrier).",
+            "Means over the mesh positions, SP and RP frames of singh2007 section 5; system",
+            "values are the means over the pairs (per pair below). Moments N m, offsets mm.",
+        ]
+    else:
+        intro = [
+            "# The system scene: every pinion on the elastic carrier",
+            "",
+            "Each case in the one-branch scene (one pinion on a rigid pin, sun held, sectors of",
+            "sun and ring) and in the system scene (sun floating radially, all pinions at the",
+            "nearest assemblable angles, full ring held at its rim, the steel carrier with one",
+            "pin per pinion held at the hub of its -z plate; the gears' modulus factor does not",
+            "apply to the carrier). Means over the mesh positions, pinion frame of singh2007",
+            "section 3; system values are the means over the pinions. Moments N m, offsets mm.",
+        ]
     lines = [
-        "# The system scene: every pinion on the elastic carrier",
+        *intro,
         "",
-        "Each case in the one-branch scene (one pinion on a rigid pin, sun held, sectors of sun",
-        "and ring) and in the system scene (sun floating radially, all pinions at the nearest",
-        "assemblable angles, full ring held at its rim, the steel carrier with one pin per",
-        "pinion held at the hub of its -z plate; the gears' modulus factor does not apply to",
-        "the carrier). Means over the mesh positions, pinion frame of singh2007 section 3;",
-        "system values are the means over the pinions. Moments N m, offsets mm.",
-        "",
-        "| case | inputs | scene | level | " + " | ".join(QUANTITIES) + " |",
-        "|---|---|---|---|" + "---|" * len(QUANTITIES),
+        "| case | inputs | scene | level | " + " | ".join(quantities) + " |",
+        "|---|---|---|---|" + "---|" * len(quantities),
     ]
     for name in system:
         for label, runs in (("branch", branch), ("system", system)):
             r = runs.get(name)
             if r is None:
                 continue
-            vals = " | ".join(_fmt(q, r.get(q)) for q in QUANTITIES)
+            vals = " | ".join(_fmt(q, r.get(q)) + _pm(r, q) for q in quantities)
             lines.append(f"| {name} | {_inputs(r)} | {label} | {r['level']} | {vals} |")
+    scenes = {f"{n} ({lab})": rs[n] for n in system for lab, rs in
+              (("branch", branch), ("system", system)) if n in rs}  # fmt: skip
+    lines += ["", uncertainty_note(scenes)]
+    unit = "pair" if kind == "double_pinion" else "pinion"
     lines += ["", "## What the system adds", "",
-              "| case | K_gamma | load shares (pinion: angle deg, share) | sun centre (um) |"
+              f"| case | K_gamma | load shares ({unit}: angle deg, share) | sun centre (um) |"
               " carrier wind-up (urad) | torque balance (rel.) |",
               "|---|---|---|---|---|---|"]  # fmt: skip
     for name, s in system.items():
@@ -78,16 +207,11 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
             f"{sc[1] * 1e3:+.2f}) | {s.get('carrier_windup_rad', 0.0) * 1e6:.0f} | "
             f"{s.get('torque_balance_rel', float('nan')):.1e} |"
         )
-    lines += [
-        "",
-        "Load sharing: with a floating sun the three sun-mesh forces balance the sun, so the",
-        "unequal spacing the assembly condition forces (Zs + Zr = 121 is not divisible by 3)",
-        "gives the pinion at 0 deg a share of 3 (-2 cos 119.008 deg) / (2 - 2 cos 119.008 deg)",
-        "= 0.980 whatever the stiffness, as long as only the drive flanks carry load: a",
-        "property of the set, not of the model. Where coast flanks close (the summary's",
-        "`coast`), their forces act on the sun too and the shares move.",
-    ]
-    if pair and all(n in system for n in pair):
+    lines += ["", *_spacing_text(next(iter(system.values())))]
+    if kind == "double_pinion":
+        lines += _per_pair(system, quantities)
+        lines += _double_pinion_text(branch, system)
+    if pair and kind == "single_pinion" and all(n in system for n in pair):
         a, b = (system[n] for n in pair)
         ba, bb = branch.get(pair[0]), branch.get(pair[1])
         lines += ["", f"## {pair[0]} against {pair[1]}", ""]

@@ -21,9 +21,11 @@ by its gear's placement (a rigid map: the body's stiffness and factorization, ke
 * the carrier (``system`` scene): an elastic steel body (the gears' modulus factor does not
   apply) held at the hub of its -z plate, condensed onto its pins (each pin surface a rigid
   ring on a reference point at the pin centre; :class:`solvers.superelement.Superelement`):
-  rigid unknowns ``carrier_pin<k>_<dof>`` with the carrier's condensed stiffness. A pin-hole
-  position error e (tangential along the sun's rotation, radial) offsets the bearing
-  spring's rest position, k (q_pinion - q_pin - e);
+  rigid unknowns ``carrier_pin<k>_<dof>`` with the carrier's condensed stiffness, pin k
+  under the scene's k-th pinion (double pinion: SP1, RP1, SP2, ..., each SP and each RP on
+  its own pin). A pin-hole position error e (tangential along the sun's rotation, radial)
+  offsets the bearing spring's rest position, k (q_pinion - q_pin - e)
+  (:func:`branch_pin_errors`: per pinion, or per branch on the SP pin);
 * the ring: held at its outer rim (homogeneous Dirichlet on ``<ring>/rim``), so the ring
   reaction torque is the rim support reaction;
 * two contact pairs per mesh zone, on the exact contact-line grids of
@@ -183,10 +185,9 @@ def carrier_superelement(scene, meshes: dict, study, degree: int, store) -> Supe
     spec = scene.carrier
     mat = Material(study.material.youngs_modulus, study.material.poisson_ratio)
     bm = meshes[CARRIER]
-    rc = spec.pin_circle_radius
     couplings = [
-        RigidCoupling(f"pin{k}", T.pin(k), (rc * math.cos(a), rc * math.sin(a), 0.0), (0.0,) * 6)
-        for k, a in enumerate(spec.pin_angles)
+        RigidCoupling(f"pin{k}", T.pin(k), (float(c[0]), float(c[1]), 0.0), (0.0,) * 6)
+        for k, c in enumerate(spec.pin_centres())
     ]
     hub = Dirichlet(T.carrier_surface(T.HUB_ZNEG))
 
@@ -243,6 +244,25 @@ def pin_error_offsets(error_um, angle: float) -> np.ndarray:
     return np.array([xy[0], xy[1], 0.0, 0.0, 0.0, 0.0])
 
 
+def branch_pin_errors(errors, pinions: int, branches: int) -> list[tuple[float, float]]:
+    """Pin-hole errors [tangential, radial] (um) per pinion in carrier order from the case
+    file's list: none (all exact), one per pinion, or one per branch (the case file's
+    ``system.pin_position_errors_um`` has one per planet); a double-pinion branch's error is
+    its SP pin's (the pin on the sun-pinion centre distance, as a single pinion's), its RP
+    pin exact."""
+    if not errors:
+        return [(0.0, 0.0)] * pinions
+    if len(errors) == pinions:
+        return [tuple(e) for e in errors]
+    per = pinions // branches if branches else 0
+    if per * branches != pinions or len(errors) != branches:
+        raise ValueError(
+            f"system.pin_position_errors_um: {len(errors)} errors for {pinions} pinions in "
+            f"{branches} branches: give one per branch or one per pinion"
+        )
+    return [tuple(e) if j == 0 else (0.0, 0.0) for e in errors for j in range(per)]
+
+
 def build_gear_train(
     scene,
     meshes: dict,
@@ -272,7 +292,11 @@ def build_gear_train(
     store = BodyStore() if store is None else store
     bodies = gear_bodies(scene, meshes, study, degree, store)
     mods = getattr(study.gearset, "modifications", None)
-    every, pairs = flank_contact_pairs(scene, spacing, width, micro, modifications=mods)
+    num = study.numerics
+    every, pairs = flank_contact_pairs(
+        scene, spacing, width, micro, modifications=mods,
+        contact_model=num.contact_model, gap_limit=num.zone_gap_limit_um * 1e-3,
+    )  # fmt: skip
     grids = {k: v for k, v in every.items() if not is_coast(k)}
     coast_grids = {mesh_name(k): v for k, v in every.items() if is_coast(k)}
     torque = sun_torque(study.gearset, scene.branches)
@@ -298,7 +322,8 @@ def build_gear_train(
         angles = scene.carrier.pin_angles
         if len(prefixes) != len(centres):
             raise ValueError(f"{len(prefixes)} carrier pins for {len(centres)} pinions")
-        pin_err = study.system.pin_position_errors_um or ((0.0, 0.0),) * len(centres)
+        pin_err = branch_pin_errors(study.system.pin_position_errors_um, len(centres),
+                                    scene.branches)  # fmt: skip
         for p, prefix, a, e in zip(centres, prefixes, angles, pin_err, strict=True):
             pins[p] = prefix
             errors[p] = pin_error_offsets(e, a)

@@ -1,5 +1,6 @@
 """``python -m studies.system_report --branch results --system results/case1-system
---cases 1-GA 1-GB 1-GC 1-GB-R --pair 1-GB-R 1-GC``: the system-scene report
+--cases 1-GA 1-GB 1-GC 1-GB-R --pair 1-GB-R 1-GC`` (or ``--system results/case2-system
+--cases 2B-GA 2B-GB``, double pinion): the system-scene report
 (:func:`postprocess.system_report.write_system_report`) from the summaries."""
 
 from __future__ import annotations
