@@ -10,10 +10,19 @@ tetrahedral meshes with CalculiX. This module knows nothing of gears beyond what
   elements to ground on the reference / rotation node DOFs (the bearing), ``*BOUNDARY`` and
   ``*CLOAD``, element-face ``*SURFACE`` pairs with linear penalty contact
   (``*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR``), one ``*STATIC`` step;
-* :func:`read_dat_displacements`, :func:`read_frd_block`: the ``.dat`` node print and the
-  last ``.frd`` result block of a given name (``DISP``, ``CONTACT``);
-* :func:`contact_resultant`: force, moment and axial centroid of a slave surface from its
-  nodal contact pressures (``CPRESS``) and lumped facet areas.
+* :func:`read_dat_displacements`, :func:`read_dat_contact_statistics`,
+  :func:`read_frd_block`: the ``.dat`` node print (7 digits), ccx's own totals per contact
+  pair (``*CONTACT PRINT`` CF: force, moment, contact area) and the last ``.frd`` result
+  block of a given name (``DISP``, ``CONTACT``);
+* :func:`nodal_forces`, :func:`flank_resultant`: ccx's contact force distribution, as the
+  internal nodal forces K u of the slave body at its flank nodes (the only loaded nodes there),
+  reduced to force, moment and centroid; :func:`tet_stress`: the C3D4 stresses.
+
+Why not the ``CPRESS`` of the ``.frd``: for surface-to-surface contact ccx integrates the
+penalty pressure at points of the slave-master face overlaps, and its nodal ``CPRESS`` is the
+pressure at the penetrated slave nodes. On faceted curved flanks the penetration peaks at the
+nodes and vanishes over most of each facet, so ``CPRESS`` times the lumped nodal area is not
+the force (it came out 33 times too large at level 0).
 
 A C3D4 face k is the ccx / Abaqus numbering: S1 = (1, 2, 3), S2 = (1, 4, 2), S3 = (2, 4, 3),
 S4 = (3, 4, 1). Node and element numbers are 1-based and global over the bodies.
@@ -41,6 +50,7 @@ class Body:
     facets: dict[str, np.ndarray]  # tag name -> (k, 3) local node ids
     node0: int = 0  # global number of local node 0 is node0 + 1
     elem0: int = 0
+    local: np.ndarray | None = None  # (n, 3) mm, the points in the body's own frame
 
 
 @dataclass
@@ -111,11 +121,10 @@ def read_body(name: str, msh_path, placement=None) -> Body:
     used = np.unique(tet)
     new = -np.ones(len(m.points), np.int64)
     new[used] = np.arange(len(used))
-    pts = np.asarray(m.points[used], float)
-    if placement is not None:
-        pts = placement.apply(pts)
+    local = np.asarray(m.points[used], float)
+    pts = local if placement is None else placement.apply(local)
     facets = {nm: new[t] for nm, t in tris.items()}
-    return Body(name, pts, new[tet], facets)
+    return Body(name, pts, new[tet], facets, local=local)
 
 
 def number(bodies: list[Body]) -> int:
@@ -196,6 +205,9 @@ def write_deck(path, deck: Deck) -> dict:
         b = bodies[body]
         out.append(f"*NSET, NSET=CLAMP_{body.upper()}")
         out += _lines(np.unique(b.facets[surf]) + b.node0 + 1)
+    for b in deck.bodies:
+        out.append(f"*NSET, NSET=ALL_{b.name.upper()}, GENERATE")
+        out.append(f"{b.node0 + 1}, {b.node0 + len(b.points)}, 1")
     out.append("*NSET, NSET=REFS")
     out += _lines([n for pair in refs.values() for n in pair])
     surfaces = {}
@@ -259,8 +271,14 @@ def write_deck(path, deck: Deck) -> dict:
         for c, dof, v in loads:
             r, rr = refs[c.name]
             out.append(f"{r if dof <= 3 else rr}, {(dof - 1) % 3 + 1}, {v:.9e}")
-    out += ["*NODE PRINT, NSET=REFS", "U", "*NODE FILE", "U", "*CONTACT FILE", "CSTR, CDIS"]
-    out += ["*END STEP"]  # *CONTACT PRINT, CF: refused by ccx 2.20 here ("no existing pair")
+    # the nodes' displacements at 7 digits (the .frd has 5: too few for K u at the flanks)
+    out += ["*NODE PRINT, NSET=REFS", "U"]
+    out += [line for b in deck.bodies for line in (f"*NODE PRINT, NSET=ALL_{b.name.upper()}", "U")]
+    out += ["*NODE FILE", "U", "*CONTACT FILE", "CSTR, CDIS"]
+    for p in deck.pairs:  # ccx finds the pair by its surfaces: without them "no existing pair"
+        s, m = surfaces[p.name]
+        out += [f"*CONTACT PRINT, SLAVE={s}, MASTER={m}", "CF"]
+    out += ["*END STEP"]
     Path(path).write_text("\n".join(out) + "\n")
     return {"ref_nodes": refs, "surfaces": surfaces, "fe_nodes": nfe}
 
@@ -268,38 +286,65 @@ def write_deck(path, deck: Deck) -> dict:
 _FLOAT = r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?"
 
 
+_DISP = re.compile(r"^\s*displacements \(vx,vy,vz\) for set (\S+) and time\s+(\S+)")
+_STATS = re.compile(r"^\s*statistics for slave set (\S+), master set (\S+) and time\s+(\S+)")
+
+
 def read_dat_displacements(path) -> dict[int, np.ndarray]:
-    """Node -> (3,) displacement of the last ``displacements`` block of a ``.dat`` file."""
-    last: dict[int, np.ndarray] = {}
+    """Node -> (3,) displacement at the last time of a ``.dat`` file (``*NODE PRINT`` U; the
+    blocks of every node set printed at that time, merged)."""
+    by_time: dict[float, dict[int, np.ndarray]] = {}
     cur: dict[int, np.ndarray] | None = None
     for line in Path(path).read_text().splitlines():
-        s = line.strip()
-        if s.startswith("displacements"):
-            cur = {}
-            last = cur
+        m = _DISP.match(line)
+        if m:
+            cur = by_time.setdefault(float(m.group(2)), {})
             continue
-        if cur is None or not s:
+        parts = line.split()
+        if cur is None or not parts:
             continue
-        parts = s.split()
-        if len(parts) == 4 and re.fullmatch(r"\d+", parts[0]):
+        if len(parts) == 4 and parts[0].isdigit():
             cur[int(parts[0])] = np.array([float(v) for v in parts[1:]])
-        elif cur:
+        else:
             cur = None
-    return last
+    return by_time[max(by_time)] if by_time else {}
 
 
-def read_dat_contact_forces(path) -> list[dict]:
-    """The ``*CONTACT PRINT, CF`` blocks of the last increment: per block the header and the
-    numbers that follow it (force and moment about the origin, as ccx prints them)."""
-    blocks: list[dict] = []
+#: the rows of a ``*CONTACT PRINT`` CF block of ccx 2.20 (printed after its header)
+_STATS_ROWS = (
+    ("force_N", 0, 3), ("moment_origin_Nmm", 3, 6),  # total surface force, moment about 0
+    ("centre_mm", 6, 9), ("mean_normal", 9, 12),  # centre of the contact area, mean normal
+    ("moment_centre_Nmm", 12, 15),  # moment about that centre
+    ("area_mm2", 15, 16), ("normal_force_N", 16, 17), ("shear_force_N", 17, 18),
+)  # fmt: skip
+
+
+def read_dat_contact_statistics(path) -> dict[tuple[str, str], dict]:
+    """(slave, master) surface -> ccx's pair totals (``*CONTACT PRINT`` CF) at the last time:
+    force and moment about the origin (on the slave), the centre and area of the contact
+    area, its mean normal, and the normal (+ = tension) and shear force sizes; keys
+    :data:`_STATS_ROWS`."""
     lines = Path(path).read_text().splitlines()
+    found: dict[tuple[str, str], tuple[float, dict]] = {}
     for i, line in enumerate(lines):
-        if "contact force" in line.lower() or "total surface force" in line.lower():
-            nums = []
-            for nxt in lines[i + 1 : i + 4]:
-                nums += [float(v) for v in re.findall(_FLOAT, nxt)]
-            blocks.append({"header": line.strip(), "values": nums})
-    return blocks
+        m = _STATS.match(line)
+        if not m:
+            continue
+        nums: list[float] = []
+        for nxt in lines[i + 1 :]:
+            if _STATS.match(nxt) or _DISP.match(nxt) or len(nums) >= 18:
+                break
+            if re.search(r"[a-df-z]", nxt.lower().replace("nan", "")):
+                continue  # a row title
+            nums += [float(v) for v in nxt.split()]
+        if len(nums) < 18:
+            raise ValueError(f"{path}: contact statistics of {m.group(1)} cut short")
+        rec = {k: (nums[a] if b == a + 1 else nums[a:b]) for k, a, b in _STATS_ROWS}
+        t = float(m.group(3))
+        key = (m.group(1), m.group(2))
+        if key not in found or t >= found[key][0]:
+            found[key] = (t, rec)
+    return {k: v[1] for k, v in found.items()}
 
 
 def read_frd_block(path, name: str) -> tuple[list[str], dict[int, np.ndarray]]:
@@ -349,25 +394,94 @@ def nodal_areas(points: np.ndarray, tris: np.ndarray) -> tuple[np.ndarray, np.nd
     return nodes, lump, nrm
 
 
-def contact_resultant(body: Body, tags: list[str], pressure: dict[int, float], centre) -> dict:
-    """Force (N, on ``body``: pressure pushes against the outward normal), moment about
-    ``centre`` (N mm), force-weighted z centroid and peak pressure of the nodal contact
-    pressures ``pressure`` (global node -> MPa) over the facet groups ``tags`` of ``body``."""
-    tri = np.vstack([body.facets[t] for t in tags])
-    nodes, area, nrm = nodal_areas(body.points, tri)
-    p = np.array([pressure.get(int(n) + body.node0 + 1, 0.0) for n in nodes])
-    p = np.maximum(p, 0.0)
-    f = -(p * area)[:, None] * nrm
-    x = body.points[nodes]
-    fn = p * area
+def tet_gradients(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(gradients (m, 4, 3) of the four linear shape functions, volumes (m,)) of C3D4s."""
+    x = points[tets]
+    J = np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], x[:, 3] - x[:, 0]], axis=1)
+    dN = np.array([[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    return np.einsum("mij,aj->mai", np.linalg.inv(J), dN), np.abs(np.linalg.det(J)) / 6.0
+
+
+def tet_stress(points, tets, u, E: float, nu: float) -> np.ndarray:
+    """Constant stress (m, 3, 3) of C3D4s: sigma = lambda tr(eps) I + 2 mu eps, eps = sym grad
+    u (MPa for mm, N)."""
+    G, _ = tet_gradients(points, tets)
+    H = np.einsum("mai,maj->mij", np.asarray(u, float)[tets], G)
+    eps = 0.5 * (H + H.transpose(0, 2, 1))
+    lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    return 2 * mu * eps + lam * np.trace(eps, axis1=1, axis2=2)[:, None, None] * np.eye(3)
+
+
+def nodal_forces(points, tets, u, E: float, nu: float) -> np.ndarray:
+    """Internal nodal forces K u (n, 3) of a C3D4 body, f_a = sum_e V_e sigma_e grad N_a. At a
+    node with no other load they are the contact force on the body there (equilibrium)."""
+    G, V = tet_gradients(points, tets)
+    fe = np.einsum("mij,maj->mai", tet_stress(points, tets, u, E, nu), G) * V[:, None, None]
+    f = np.zeros((len(points), 3))
+    np.add.at(f, tets.reshape(-1), fe.reshape(-1, 3))
+    return f
+
+
+def outward(body: Body, facets: np.ndarray) -> np.ndarray:
+    """The triangles ``facets`` (local ids) wound so that their normals point out of the body
+    (away from the fourth vertex of the tetrahedron they bound)."""
+    el, fc = element_faces(body, facets)
+    tet = body.tets[el - body.elem0 - 1]
+    missing = 6 - np.asarray(TET_FACES).sum(axis=1)  # the vertex face S_k does not hold
+    fourth = body.points[tet[np.arange(len(tet)), missing[fc - 1]]]
+    a, b, c = (body.points[facets[:, i]] for i in range(3))
+    inward = (np.cross(b - a, c - a) * (fourth - a)).sum(axis=1) > 0
+    out = facets.copy()
+    out[inward] = out[inward][:, ::-1]
+    return out
+
+
+def flank_resultant(body: Body, tags: list[str], f: np.ndarray, centre) -> dict:
+    """Contact resultant on ``body`` over the facet groups ``tags`` from its nodal forces ``f``
+    (n, 3; :func:`nodal_forces`, body-local rows): force, normal force sum_k -f_k . n_k (n_k
+    the outward nodal normal), moment about ``centre`` (N mm), normal-force-weighted centroid
+    (scene frame) and the number of nodes carrying more than 1e-3 of the largest force."""
+    tri = outward(body, np.vstack([body.facets[t] for t in tags]))
+    nodes, _, nrm = nodal_areas(body.points, tri)
+    fk, x = f[nodes], body.points[nodes]
+    fn = -(fk * nrm).sum(axis=1)
     tot = float(fn.sum())
     rel = x - np.asarray(centre, float)
     return {
-        "force_N": f.sum(axis=0).tolist(),
+        "force_N": fk.sum(axis=0).tolist(),
         "normal_force_N": tot,
-        "moment_Nmm": np.cross(rel, f).sum(axis=0).tolist(),
-        "z_centroid_mm": float((fn * x[:, 2]).sum() / tot) if tot > 0 else float("nan"),
-        "peak_pressure_MPa": float(p.max()) if len(p) else 0.0,
-        "nodes_in_contact": int(np.count_nonzero(p > 0)),
+        "moment_Nmm": np.cross(rel, fk).sum(axis=0).tolist(),
+        "centroid_mm": ((fn @ x) / tot).tolist() if tot > 0 else None,
+        "nodes_loaded": int(np.count_nonzero(fn > 1e-3 * max(fn.max(initial=0.0), 1e-30))),
         "nodes": len(nodes),
     }
+
+
+def facet_sag(body: Body, tags: list[str]) -> np.ndarray:
+    """Per triangle of the facet groups ``tags``: the largest chord sag of its edges (mm), the
+    distance by which the flat facet falls short of the curved surface its vertices lie on,
+    |d^T H d| / 8 for an edge d, H the Hessian of a quadratic height field h(s, t) fitted (least
+    squares) in the facet's tangent plane to the group's nodes within two longest edges."""
+    tri = np.vstack([body.facets[t] for t in tags])
+    nodes = np.unique(tri)
+    xn = body.points[nodes]
+    out = np.empty(len(tri))
+    for k, t in enumerate(tri):
+        x = body.points[t]
+        e = np.roll(x, -1, axis=0) - x  # the three edges
+        n = np.cross(e[0], -e[2])
+        n /= np.linalg.norm(n)
+        s_ax = e[0] / np.linalg.norm(e[0])
+        t_ax = np.cross(n, s_ax)
+        rel = xn - x.mean(axis=0)
+        near = (rel**2).sum(axis=1) <= (2.0 * np.linalg.norm(e, axis=1).max()) ** 2
+        s, tt, h = rel[near] @ s_ax, rel[near] @ t_ax, rel[near] @ n
+        A = np.c_[np.ones_like(s), s, tt, s * s, s * tt, tt * tt]
+        if len(s) < 8:
+            out[k] = np.nan
+            continue
+        c = np.linalg.lstsq(A, h, rcond=None)[0]
+        H = np.array([[2 * c[3], c[4]], [c[4], 2 * c[5]]])
+        d = np.c_[e @ s_ax, e @ t_ax]
+        out[k] = float(np.abs(np.einsum("ei,ij,ej->e", d, H, d)).max() / 8.0)
+    return out
