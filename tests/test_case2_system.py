@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 from mpi_reference import serial_on_rank0
+from system_case import as_system
 
 from cases.gearset import load_gearset
 from cases.study_case import load_study_case
@@ -140,17 +141,11 @@ def test_case2_carrier_mesh_pins(case2):
 # --------------------------------------------------------------------------------------
 
 
-def _system(study, **material):
-    mat = dataclasses.replace(study.material, **material)
-    return dataclasses.replace(study, material=mat,
-                               model=dataclasses.replace(study.model, scene="system"))  # fmt: skip
-
-
 @pytest.fixture(scope="module")
 def stiff_system():
     """2B-GA (rigid bearings) with the carrier 1000x stiffer than the gears: E_carrier =
     206e6 MPa, gears 206e3 (gear_modulus_factor 1e-3)."""
-    study = _system(load_study_case("2B-GA"), youngs_modulus=206e6, gear_modulus_factor=1e-3)
+    study = as_system(load_study_case("2B-GA"), youngs_modulus=206e6, gear_modulus_factor=1e-3)
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
 
 
@@ -197,7 +192,7 @@ def test_case2_pair_on_stiff_carrier_matches_the_branch(stiff_system, branch_ga)
 def test_case2_system_parallel_equals_serial():
     """The double-pinion system scene (2B-GB, steel carrier) on 2 ranks against a serial
     solve: MUMPS on another partition changes round-off only (1e-6 is a wide margin)."""
-    study = _system(load_study_case("2B-GB"))
+    study = as_system(load_study_case("2B-GB"))
     par = solve_position(study, 0.0, MPI.COMM_WORLD, level=0)
     ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, level=0))
     scale = max(abs(ser[k]) for k in LOA)

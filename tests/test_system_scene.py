@@ -8,13 +8,13 @@ scene of the same case; reuse is checked on the one-branch scene.
 import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
-import dataclasses
 import math
 
 import numpy as np
 import pytest
 from mpi4py import MPI
 from mpi_reference import serial_on_rank0
+from system_case import as_system
 
 from cases.study_case import load_study_case
 from solvers.body_store import BodyStore
@@ -23,17 +23,11 @@ from studies.position import solve_position
 MOMENTS = ("Mx_pin", "My_pin", "Mz_pin", "M_LOA_sun", "M_LOA_ring")
 
 
-def _system(study, **material):
-    mat = dataclasses.replace(study.material, **material)
-    return dataclasses.replace(study, material=mat,
-                               model=dataclasses.replace(study.model, scene="system"))  # fmt: skip
-
-
 @pytest.fixture(scope="module")
 def stiff_system():
     """1-GA (rigid bearings) with the carrier 1000x stiffer than the gears: E_carrier =
     206e6 MPa, gears 206e3 (gear_modulus_factor 1e-3)."""
-    study = _system(load_study_case("1-GA"), youngs_modulus=206e6, gear_modulus_factor=1e-3)
+    study = as_system(load_study_case("1-GA"), youngs_modulus=206e6, gear_modulus_factor=1e-3)
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
 
 
@@ -100,7 +94,7 @@ def test_reuse_gives_the_same_numbers():
 def test_system_scene_parallel_equals_serial():
     """The system scene (1-GB, steel carrier) on 2 ranks against a serial solve: MUMPS on
     another partition changes round-off only (1e-6 is a wide margin)."""
-    study = _system(load_study_case("1-GB"))
+    study = as_system(load_study_case("1-GB"))
     par = solve_position(study, 0.0, MPI.COMM_WORLD, level=0)
     ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, level=0))
     for k in (*MOMENTS, "ZS", "ZR", "K_gamma"):
