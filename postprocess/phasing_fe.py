@@ -455,8 +455,6 @@ def report(data: dict) -> str:
         "Scene all_planets: every planet on its bearing to a rigid pin, full sun and ring, the "
         "sun's centre held and its rotation free under the torque, the ring held at its rim.",
         "",
-        f"Spur stand-in: {inp['spur_note']}.",
-        "",
         "How to read the tables (details in `postprocess/phasing_fe.py`). *FE ratio*: the net "
         "amplitude of the mesh-force excitation F~_i = k_i(t) mean(delta_i) over the sum of "
         "the single-mesh amplitudes (1: all planets in phase, 0: cancelled), beside the phasor "

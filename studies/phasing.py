@@ -7,9 +7,8 @@ assemblable angles nearest to equal spacing, each snapped to the nearest assembl
 multiple of 360 / (Zs + Zr) deg; the snap is reported). The scene is ``all_planets``. The
 sun steps through one tooth pitch in ``model.positions`` equal steps (``--positions``
 overrides), every position of the cycle sharing the bodies (one
-:class:`solvers.body_store.BodyStore`). A spur gear set is solved with the helix angle
-``--spur-helix`` (deg) instead of 0, because the contact grid divides by the helix rate
-(:mod:`solvers.flank_grid`); the report says so.
+:class:`solvers.body_store.BodyStore`). Spur gear sets are solved as spur (axial contact
+lines, :mod:`solvers.flank_grid` eq. (1a)).
 
 Writes ``phasing.json`` (the per-position records and the harmonic tables), ``report.md``,
 ``<case>_histories.png`` and ``<case>_harmonics.png`` (:mod:`postprocess.phasing_fe`).
@@ -28,7 +27,7 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from cases.gearset import CaseError, parse_gearset
+from cases.gearset import CaseError
 from cases.study_case import load_study_case
 from gears.analytic import phasing
 from postprocess import phasing_fe as pf
@@ -36,31 +35,6 @@ from solvers.body_store import BodyStore
 from studies.cli import guarded
 from studies.files import atomic_write_text, read_json, write_json
 from studies.position import solve_position
-
-
-def near_spur(study, helix_deg: float):
-    """``study`` with every gear's helix angle 0 replaced by ``helix_deg`` (profile shifts
-    resolved again from the gear-set data), and a note; unchanged if no gear is spur."""
-    gs = study.gearset
-    if any(g.helix_angle > 0 for g in gs.gears.values()):
-        return study, "none (a helical set)"
-    src = dict(gs.source)
-    src["common"] = {**src.get("common", {}), "helix_angle": helix_deg}
-    src["gears"] = {
-        k: {**v, **({"helix_angle": helix_deg} if "helix_angle" in v else {})}
-        for k, v in src["gears"].items()
-    }
-    new = parse_gearset(src, f"{gs.name} (near spur)", gs.path)
-    sun = new.gears[new.power_path[0]]
-    twist = sun.face_width * math.tan(math.radians(helix_deg)) * 1e3
-    note = (
-        f"the gear set is spur (helix 0), which the contact grid cannot take "
-        f"(solvers/flank_grid.py divides by the helix rate: ZeroDivisionError); it is solved "
-        f"with helix angle {helix_deg:g} deg, a flank twist of {twist:.2f} um across the face "
-        "width at the sun's pitch circle and an axial force of "
-        f"{math.tan(math.radians(helix_deg)):.1e} of the tangential force"
-    )
-    return dataclasses.replace(study, gearset=new), note
 
 
 def planet_angles(study, angles_deg) -> tuple[list[float], float]:
@@ -80,8 +54,7 @@ def planet_angles(study, angles_deg) -> tuple[list[float], float]:
 
 
 def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, list]:
-    base = load_study_case(name)
-    study, note = near_spur(base, args.spur_helix)
+    study = load_study_case(name)
     study = dataclasses.replace(study, model=dataclasses.replace(study.model, scene="all_planets"))
     gs = study.gearset
     sun, ring = gs.gears[gs.power_path[0]], gs.gears[gs.power_path[-1]]
@@ -114,7 +87,7 @@ def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, lis
             f"({time.perf_counter() - t0:.0f} s)"
         )
     inp = {
-        "description": base.description,
+        "description": study.description,
         "gearset": gs.name,
         "zs": sun.teeth,
         "positions": m,
@@ -124,7 +97,6 @@ def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, lis
         "planet_angles_given_deg": list(angles) if angles else None,
         "planet_angles_deg": psi,
         "largest_snap_deg": snap,
-        "spur_note": note,
         "r_b_sun_mm": sun.base_radius,
     }
     return inp, records
@@ -151,7 +123,6 @@ def run(args, comm=MPI.COMM_WORLD) -> dict:
         "pressure_angle": sun.normal_pressure_angle,
         "face_width": sun.face_width,
         "torque_Nm": gs.input_torque,
-        "spur_note": next(iter(data["case_inputs"].values()))["spur_note"],
         "argv": sys.argv[1:],
     }
     return data
@@ -180,20 +151,12 @@ def parse_args(argv=None) -> argparse.Namespace:
         help="positions over one mesh cycle (default: the case's)",
     )
     ap.add_argument(
-        "--spur-helix",
-        type=float,
-        default=0.001,
-        help="helix angle (deg) that stands in for 0 (default 0.001)",
-    )
-    ap.add_argument(
         "--report-only", action="store_true", help="rewrite report and figures from phasing.json"
     )
     ap.add_argument("--traceback", action="store_true", help="print tracebacks (bug reports)")
     args = ap.parse_args(argv)
     if args.positions is not None and args.positions < 3:
         ap.error("--positions: at least 3 (the first harmonic needs 3 samples)")
-    if not 0 < args.spur_helix < 1:
-        ap.error("--spur-helix: a small angle in (0, 1) deg")
     return args
 
 

@@ -189,6 +189,7 @@ def test_case2_pair_on_stiff_carrier_matches_the_branch(stiff_system, branch_ga)
 
 
 @pytest.mark.mpi
+@pytest.mark.heavy
 def test_case2_system_parallel_equals_serial():
     """The double-pinion system scene (2B-GB, steel carrier) on 2 ranks against a serial
     solve: MUMPS on another partition changes round-off only (1e-6 is a wide margin)."""
