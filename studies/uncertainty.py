@@ -26,13 +26,16 @@ STUDY_FILE = "convergence.json"
 
 def match_key(study: StudyCase) -> dict:
     """What a convergence study and a case must share: gear set name and hash of its
-    resolved data, scene, penalty factor and contact grid spacing."""
+    resolved data, scene, contact model (with its gap limit), penalty factor and contact grid
+    spacing."""
     gearset = study_inputs(study)["gearset"]
     text = json.dumps(gearset, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return {
         "gearset": gearset["name"],
         "gearset_hash": hashlib.sha256(text.encode("utf-8")).hexdigest(),
         "scene": study.model.scene,
+        "contact_model": study.numerics.contact_model,
+        "zone_gap_limit_um": study.numerics.zone_gap_limit_um,
         "penalty_factor": study.numerics.penalty_factor,
         "grid_spacing": study.numerics.grid_spacing,
     }
