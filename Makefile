@@ -123,6 +123,13 @@ bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/
 # Contact models (issue 11): line grid against zone grid on 1-GA and 1-GC at level 0, one
 # position, penalty factor swept over three decades; cost per position, line-end loads and
 # fine-grid pressure against Hertz.
+# The bodies' linear solvers (issue 13 item 5): exact MUMPS LU, block low-rank MUMPS and
+# CG/GAMG on one 1-GB position per level; time, peak memory and the change of every result.
+LINEAR_LEVELS ?= 1 2
+.PHONY: bench-linear
+bench-linear: $(STAMP) ## exact LU vs BLR vs CG/GAMG: results/bench/linear_solver.{json,md}
+	$(PY) -m studies.bench_linear --levels $(LINEAR_LEVELS) --out $(RESULTS)/bench
+
 .PHONY: bench-contact
 bench-contact: $(STAMP) ## line vs zone contact model: results/bench/contact_grid.json
 	$(PY) -m studies.bench_contact --out $(RESULTS)/bench --level 0

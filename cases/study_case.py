@@ -43,6 +43,9 @@ PENALTY_FACTOR_RANGE = (1.0, 1e6)  # inclusive
 GRID_SPACING_RANGE = (0.01, 5.0)  # mm, open below, closed above
 CONTACT_MODELS = ("line", "zone")
 ZONE_GAP_RANGE = (1.0, 500.0)  # um, inclusive
+# the body solvers of solvers.elastic_body.LinearSolver (a test checks the two agree)
+LINEAR_SOLVERS = ("mumps", "mumps-blr", "cg-gamg")
+LINEAR_TOLERANCE_RANGE = (1e-14, 1e-3)  # inclusive; BLR threshold or CG relative residual
 
 
 def _real(value) -> bool:
@@ -100,6 +103,13 @@ class Numerics:
     # below this (um), ZONE_GAP_RANGE: a few times the largest approach under load (Hertz +
     # bending + mismatch, 10-20 um for these gears).
     zone_gap_limit_um: float = 40.0
+    # Solver of each body's stiffness, one of LINEAR_SOLVERS: "mumps" (exact sparse LU),
+    # "mumps-blr" (block low-rank LU: less memory, faster factorization) or "cg-gamg"
+    # (iterative, no factor in memory, slow per right-hand side); solvers.elastic_body.
+    linear_solver: str = "mumps"
+    # BLR dropping threshold or CG relative residual, LINEAR_TOLERANCE_RANGE; None: the
+    # solver's default (1e-6 BLR, 1e-8 CG); "mumps" takes none.
+    linear_tolerance: float | None = None
 
     def __post_init__(self):
         d = self.degree
@@ -133,6 +143,25 @@ class Numerics:
                 f"numerics.zone_gap_limit_um = {g!r}: must be a number in [{lo:g}, {hi:g}] um"
             )
         object.__setattr__(self, "zone_gap_limit_um", float(g))
+        if self.linear_solver not in LINEAR_SOLVERS:
+            raise CaseError(
+                f"numerics.linear_solver = {self.linear_solver!r}: must be one of "
+                f"{', '.join(repr(m) for m in LINEAR_SOLVERS)}"
+            )
+        t = self.linear_tolerance
+        lo, hi = LINEAR_TOLERANCE_RANGE
+        if t is not None:
+            if self.linear_solver == "mumps":
+                raise CaseError(
+                    f"numerics.linear_tolerance = {t!r}: linear_solver 'mumps' is exact and "
+                    "takes no tolerance (omit it, or choose 'mumps-blr' or 'cg-gamg')"
+                )
+            if not _real(t) or not lo <= t <= hi:
+                raise CaseError(
+                    f"numerics.linear_tolerance = {t!r}: must be a number in [{lo:g}, {hi:g}], "
+                    "or omitted for the solver's default"
+                )
+            object.__setattr__(self, "linear_tolerance", float(t))
 
 
 DEFAULTS = Numerics()

@@ -57,7 +57,7 @@ from meshing import tags as T
 from solvers.body_store import BodyStore
 from solvers.contact import ContactProblem, RigidUnknown, Spring, StiffnessBlock
 from solvers.contact_grid import ContactGrid
-from solvers.elastic_body import Dirichlet, ElasticBody, Material
+from solvers.elastic_body import Dirichlet, ElasticBody, LinearSolver, Material
 from solvers.flank_grid import FlankGridInfo, flank_contact_pairs, is_coast, mesh_name
 from solvers.rigid_coupling import RigidCoupling
 from solvers.superelement import Superelement
@@ -130,6 +130,13 @@ def bearing_stiffness(bearing) -> np.ndarray:
                      b.tilting_stiffness, b.tilting_stiffness, 0.0])  # fmt: skip
 
 
+def linear_solver(study) -> LinearSolver:
+    """The bodies' :class:`solvers.elastic_body.LinearSolver` of the study's numerics; part
+    of every body's store key, so a body set up with another solver is never reused."""
+    num = study.numerics
+    return LinearSolver(num.linear_solver, num.linear_tolerance)
+
+
 def _held_body(store, key, make, held):
     def made():
         b = make()
@@ -146,6 +153,7 @@ def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> li
     held as rigid unknowns), the ring held at its rim. Kept in ``store`` by (mesh, degree,
     material, supports)."""
     mat = Material(study.material.gear_youngs_modulus, study.material.poisson_ratio)
+    ls = linear_solver(study)
     origin = (0.0, 0.0, 0.0)
     sun, ring = scene.sun_name, scene.ring_name
     floating = scene.carrier is not None
@@ -171,9 +179,9 @@ def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> li
 
         def make(bm=bm, nm=nm, kw=kw):
             return ElasticBody(nm, bm.bundle.mesh, bm.bundle.facet_tags, bm.tags, mat, degree,
-                               **kw)  # fmt: skip
+                               linear_solver=ls, **kw)  # fmt: skip
 
-        b = _held_body(store, (bm.key, degree, mat.E, mat.nu, role), make, held)
+        b = _held_body(store, (bm.key, degree, mat.E, mat.nu, role, ls), make, held)
         b.place(_rotation_z(g.placement.angle), (*g.placement.centre, 0.0))
         bodies.append(b)
     return bodies
@@ -194,10 +202,12 @@ def carrier_superelement(scene, meshes: dict, study, degree: int, store) -> Supe
     def make():
         mb = bm.bundle
         kw = {"couplings": couplings, "dirichlet": [hub], "centre": (0.0, 0.0, 0.0)}
-        body = ElasticBody(CARRIER, mb.mesh, mb.facet_tags, bm.tags, mat, degree, **kw)
+        body = ElasticBody(CARRIER, mb.mesh, mb.facet_tags, bm.tags, mat, degree,
+                           linear_solver=ls, **kw)  # fmt: skip
         return Superelement(body)
 
-    return store.keep((bm.key, degree, mat.E, mat.nu, "carrier-superelement"), make)
+    ls = linear_solver(study)
+    return store.keep((bm.key, degree, mat.E, mat.nu, "carrier-superelement", ls), make)
 
 
 def bearing_unknowns(pinion: str, k: np.ndarray, pin: str | None, offset: np.ndarray):

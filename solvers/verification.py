@@ -238,6 +238,7 @@ def planetary_scene(
     degree: int = 2,
     penalty_factor: float = DEFAULTS.penalty_factor,
     spacing: float | None = None,
+    body_options: dict | None = None,
 ):
     """Sun (torque, rotation unknown) - planet (radial bearing, spin unknown) - fixed ring.
 
@@ -247,6 +248,7 @@ def planetary_scene(
     (planet -> ring). The flanks are the involutes' osculating circles, radii
     rho = r sin(alpha), centred on the base circles. Statics alone give
     T_ring / T_sun = r_r / r_s and equal sun and ring mesh forces F = T / (r_s cos a).
+    ``body_options``: further ElasticBody keywords of both bodies (``linear_solver``, ...).
     """
     a = math.radians(alpha_deg)
     s = h_min if spacing is None else spacing
@@ -279,6 +281,7 @@ def planetary_scene(
         degree,
         couplings=[RigidCoupling("axis", "bore", O1, (math.inf, math.inf, 0.0))],
         centre=O1,
+        **(body_options or {}),
     )
     planet = ElasticBody(
         "planet",
@@ -289,6 +292,7 @@ def planetary_scene(
         degree,
         couplings=[RigidCoupling("bearing", "bore", O2, (k_radial, k_radial, 0.0))],
         centre=O2,
+        **(body_options or {}),
     )
     # half-width: Hertz a for the expected load, times 2.5, at least 3 grid spacings
     F = torque / (r_sun * math.cos(a))

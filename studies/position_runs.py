@@ -19,11 +19,12 @@ import resource
 import subprocess
 import sys
 import time
+from dataclasses import asdict, replace
 from pathlib import Path
 
 from mpi4py import MPI
 
-from cases.study_case import load_study_case
+from cases.study_case import CaseError, Numerics, load_study_case
 from meshing import sizing
 from postprocess.convergence import summary_scalars
 from postprocess.summary import summarise
@@ -67,10 +68,20 @@ def _time_split(positions: list[dict]) -> dict[str, float]:
     }
 
 
-def solve_run(case: str, level: int, degree: int, positions: int) -> dict:
+def solve_run(
+    case: str, level: int, degree: int, positions: int, numerics: dict | None = None
+) -> dict:
     """Solve ``positions`` equally spaced mesh positions of ``case`` (serial, bodies reused
-    across them) at ``level``/``degree``; the run's row (see the module docstring)."""
+    across them) at ``level``/``degree``; the run's row (see the module docstring).
+    ``numerics``: fields of the case's ``[numerics]`` replaced for this run (validated as in
+    a case file)."""
     study = load_study_case(case)
+    if numerics:
+        try:
+            num = Numerics(**{**asdict(study.numerics), **numerics})
+        except TypeError as exc:  # an unknown field
+            raise CaseError(f"numerics: {exc}") from exc
+        study = replace(study, numerics=num)
     comm = MPI.COMM_WORLD
     store = BodyStore()
     solved = [
@@ -92,6 +103,7 @@ def solve_run(case: str, level: int, degree: int, positions: int) -> dict:
         "compliance_columns": int(sum(p["timings"].get("compliance_columns", 0) for p in solved)),
         "time_s": _time_split(solved),
         "peak_rss_mb": peak_rss_mb(),
+        "numerics": asdict(study.numerics),
         "scalars": summary_scalars(summary, study.gearset.kind),
     }
 

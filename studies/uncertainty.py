@@ -26,8 +26,8 @@ STUDY_FILE = "convergence.json"
 
 def match_key(study: StudyCase) -> dict:
     """What a convergence study and a case must share: gear set name and hash of its
-    resolved data, scene, contact model (with its gap limit), penalty factor and contact grid
-    spacing."""
+    resolved data, scene, contact model (with its gap limit), penalty factor, contact grid
+    spacing and the bodies' linear solver (with its tolerance)."""
     gearset = study_inputs(study)["gearset"]
     text = json.dumps(gearset, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return {
@@ -38,6 +38,8 @@ def match_key(study: StudyCase) -> dict:
         "zone_gap_limit_um": study.numerics.zone_gap_limit_um,
         "penalty_factor": study.numerics.penalty_factor,
         "grid_spacing": study.numerics.grid_spacing,
+        "linear_solver": study.numerics.linear_solver,
+        "linear_tolerance": study.numerics.linear_tolerance,
     }
 
 

@@ -1,0 +1,132 @@
+"""The bodies' linear solvers (solvers.elastic_body.LinearSolver, ``[numerics]
+linear_solver``): block low-rank MUMPS and CG/GAMG give the exact LU's contact solution, a
+CG that does not converge is an error, and the case file's field is checked.
+
+The measured speed and memory of the three on the case meshes are in ``make bench-linear``.
+"""
+
+import dolfinx_solver  # noqa: F401 - must precede dolfinx
+
+# isort: split
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from cases import study_case
+from cases.study_case import CaseError, Numerics
+from solvers import elastic_body
+from solvers.elastic_body import LinearSolver
+from solvers.errors import FactorizationError
+from solvers.verification import planetary_scene
+
+
+def _solve(kind: str, comm=MPI.COMM_WORLD, **solver):
+    problem, _ = planetary_scene(
+        comm, torque=9.0e3, k_radial=1e6, h_min=0.1, degree=1,
+        body_options={"linear_solver": LinearSolver(kind, **solver)},
+    )  # fmt: skip
+    res = problem.solve()
+    rigid = np.array([res.rigid[k] for k in sorted(res.rigid)])
+    return problem, np.asarray(res.forces), rigid
+
+
+@pytest.fixture(scope="module")
+def exact():
+    return _solve("mumps")
+
+
+@pytest.mark.parametrize("kind", ["mumps-blr", "cg-gamg"])
+def test_inexact_solvers_give_the_exact_contact_solution(exact, kind):
+    _, f0, q0 = exact
+    _, f, q = _solve(kind)
+    # BLR drops off-diagonal block entries below 1e-6 (relative), CG stops at a relative
+    # residual of 1e-8; on this well-conditioned 2D body (cond ~1e5) the solution error is
+    # below 1e-6 relative. Measured: BLR 0 (fronts too small to compress), CG 9e-9 (forces)
+    # and 5e-10 (rigid unknowns).
+    assert np.abs(f - f0).max() <= 1e-6 * np.abs(f0).max()
+    assert np.abs(q - q0).max() <= 1e-6 * np.abs(q0).max()
+
+
+def test_blr_is_switched_on_in_mumps():
+    problem, _, _ = _solve("mumps-blr")
+    for body in problem.bodies.values():
+        F = body.ksp.getPC().getFactorMatrix()
+        assert F.getMumpsIcntl(35) == 2  # BLR in factorization and solve
+        assert F.getMumpsCntl(7) == pytest.approx(1e-6)
+
+
+def test_a_cg_that_does_not_converge_is_an_error():
+    problem, _ = planetary_scene(
+        MPI.COMM_WORLD, torque=9.0e3, k_radial=1e6, h_min=0.1, degree=1,
+        body_options={"linear_solver": LinearSolver("cg-gamg", 1e-14),
+                      "petsc_options": {"ksp_max_it": 2}},
+    )  # fmt: skip
+    with pytest.raises(FactorizationError, match="did not converge"):
+        problem.solve()
+
+
+def test_the_case_file_and_the_solver_know_the_same_solvers():
+    assert study_case.LINEAR_SOLVERS == elastic_body.LINEAR_SOLVERS
+
+
+@pytest.mark.parametrize(
+    "fields, words",
+    [
+        ({"linear_solver": "lu"}, "numerics.linear_solver = 'lu': must be one of"),
+        ({"linear_tolerance": 1e-6}, "'mumps' is exact and takes no tolerance"),
+        ({"linear_solver": "cg-gamg", "linear_tolerance": 0.1}, "must be a number in"),
+        ({"linear_solver": "cg-gamg", "linear_tolerance": "tight"}, "must be a number in"),
+    ],
+)
+def test_bad_linear_solver_fields_name_the_field(fields, words):
+    with pytest.raises(CaseError, match=words):
+        Numerics(**fields)
+
+
+def test_default_tolerances():
+    assert Numerics().linear_tolerance is None
+    assert LinearSolver("mumps").tolerance is None
+    assert LinearSolver("mumps-blr").tolerance == 1e-6
+    assert LinearSolver("cg-gamg").tolerance == 1e-8
+    with pytest.raises(ValueError, match="no tolerance"):
+        LinearSolver("mumps", 1e-6)
+
+
+@pytest.mark.mpi
+def test_cg_gamg_on_two_ranks_gives_the_exact_solution():
+    comm = MPI.COMM_WORLD
+    _, f0, q0 = _solve("mumps", comm)
+    _, f, q = _solve("cg-gamg", comm)
+    # as the serial test: the CG residual 1e-8 bounds the error far below 1e-6; the
+    # aggregation differs with the partition, the tolerance does not
+    assert np.abs(f - f0).max() <= 1e-6 * np.abs(f0).max()
+    assert np.abs(q - q0).max() <= 1e-6 * np.abs(q0).max()
+
+
+def test_bench_reports_changes_above_the_noise_floor():
+    from studies.bench_linear import _changes
+
+    ref = {"scalars": {"My_pin": 200.0, "Mx_pin": 10.0, "M_LOA_sun": 90.0, "M_LOA_ring": -80.0,
+                       "Mz_pin": 1e-9, "bending_stress.sun": 500.0, "label": "x"}}  # fmt: skip
+    row = {"scalars": {**ref["scalars"], "My_pin": 202.0, "Mz_pin": 3e-9}}
+    ch = _changes(row, ref)
+    assert ch["My_pin"] == pytest.approx(0.01)
+    assert ch["bending_stress.sun"] == 0.0
+    assert "Mz_pin" not in ch  # zero by construction: round-off, not a change
+    assert "label" not in ch
+
+
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--tolerances", "mumps:1e-6"], "'mumps' is exact"),
+        (["--tolerances", "mumps-blr=1e-6"], "give SOLVER:VALUE"),
+        (["--levels", "9"], "level = 9"),
+    ],
+)
+def test_bench_refuses_bad_input_before_any_run(argv, words, capsys, tmp_path):
+    from studies.bench_linear import main
+
+    assert main([*argv, "--out", str(tmp_path)]) == 2
+    assert words in capsys.readouterr().err
+    assert not (tmp_path / "linear_solver.json").exists()
