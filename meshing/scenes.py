@@ -48,10 +48,21 @@ from meshing.sizing import MeshingError
 # diameter + 2 needle diameters; rim of the ring about 3 modules outside its root circle.
 PIN_DIAMETER = 16.0
 NEEDLE_DIAMETER = 3.0
-SUN_BORE_RADIUS = 15.0
+SUN_BORE_RADIUS = 15.0  # largest sun bore; smaller suns get sun_bore_radius()
+# Rim under the sun's root circle, in normal modules: a rim backup ratio t_R / h_t of about
+# 1.5 (h_t = 2.25 m), above the 1.2 from which ISO 6336-3 takes the rim as stiff (Y_B = 1).
+SUN_RIM_MODULES = 3.5
 RING_RIM_THICKNESS = 5.0  # outer radius = root radius + this
 SECTOR_MARGIN = 1  # unrefined teeth added each side of the refined teeth in a sector
 ACTIVE_MARGIN = 1  # refined teeth added each side of the teeth in contact
+
+
+def sun_bore_radius(sun) -> float:
+    """The sun's bore radius (mm): SUN_BORE_RADIUS, or less where the rim under the root
+    circle would be thinner than SUN_RIM_MODULES normal modules (a small sun). A sun too
+    small for any bore gets a radius <= 0, which :class:`meshing.gear_body.GearBody` refuses
+    with a message naming ``inner_radius``."""
+    return min(SUN_BORE_RADIUS, sun.root_radius - SUN_RIM_MODULES * sun.normal_module)
 
 
 def pinion_bore_radius(pin_diameter: float = PIN_DIAMETER) -> float:
@@ -298,7 +309,7 @@ def planetary_scene(
     double = len(pinions) == 2
     offsets = dict(phase_offsets or {})
     sun_pl = Placement(roll + offsets.pop(path[0], 0.0))
-    sun_kw = {"inner_radius": SUN_BORE_RADIUS}
+    sun_kw = {"inner_radius": sun_bore_radius(sun)}
     pin_kw = {"inner_radius": pinion_bore_radius(pin_diameter)}
     ring_kw = {"outer_radius": ring.root_radius + RING_RIM_THICKNESS}
     if all_planets:

@@ -227,3 +227,26 @@ def test_case2_scene_mesh(all_scenes):
         for g, side in ((sc.gear(zn.driver), zn.driver_side), (sc.gear(zn.driven), zn.driven_side)):
             assert {T.flank(g.name, k, side) for k in g.contact_teeth} <= names
     assert meta["min_sicn"] >= 0.15  # level 0 minimum
+
+
+def test_sun_bore_follows_a_small_sun():
+    """A sun smaller than the case suns gets a bore that leaves SUN_RIM_MODULES modules of
+    rim under its root circle (before: a fixed 15 mm bore, refused for a small sun); the
+    case suns keep the 15 mm bore (their meshes are unchanged)."""
+    import copy
+
+    from cases.gearset import load_gearset, parse_gearset
+    from meshing.gear_body import GearBody
+
+    case1 = load_gearset("case1")
+    assert scenes.sun_bore_radius(case1.gears["sun"]) == scenes.SUN_BORE_RADIUS
+    src = copy.deepcopy(case1.source)
+    src["common"]["normal_module"] = 0.8
+    for m in src["meshes"]:  # the centre distances scale with the module
+        m["centre_distance"] *= 0.8 / 1.59
+    small = parse_gearset(src, "case1 at module 0.8")
+    sun = small.gears["sun"]
+    r = scenes.sun_bore_radius(sun)
+    assert r == pytest.approx(sun.root_radius - scenes.SUN_RIM_MODULES * 0.8)
+    assert r < scenes.SUN_BORE_RADIUS
+    GearBody(sun, inner_radius=r)  # valid: no MeshingError
