@@ -61,7 +61,7 @@ def scene_mesh_file(scene: Scene, level: int, comm=None, rebuild: bool = False):
             "volume": sum(m["volume"] for m in body_meta.values()),
             "group_elements": stats["group_elements"],
             "report": scene.report(),
-            "level": level,
+            "level": sizing.level_record(level),
         }
 
     path, meta = cache.get_or_build("scene", params, builder, comm=comm, rebuild=rebuild)

@@ -37,6 +37,9 @@ class GearBody:
     n_sections: int = 9  # 9 sections: node deviation from the helicoid ~0.01 um
     n_involute: int = 20
     n_fillet: int = 14
+    # (tooth, "pos"/"neg") of the fillets meshed at the level's ``fillet`` size; None: every
+    # fillet of the active teeth (the other fillets of active teeth get ``fillet_far``)
+    fine_fillets: tuple[tuple[int, str], ...] | None = None
 
     @property
     def body(self) -> str:
@@ -86,6 +89,14 @@ class GearBody:
         for field, val, lo in (("n_involute", self.n_involute, 8), ("n_fillet", self.n_fillet, 6)):
             if not isinstance(val, int) or not lo <= val <= 200:
                 raise MeshingError(f"{self.body}: {field} = {val!r}: must be from {lo} to 200")
+        if self.fine_fillets is not None:
+            for item in self.fine_fillets:
+                ok = isinstance(item, tuple) and len(item) == 2 and item[1] in ("pos", "neg")
+                if not ok or isinstance(item[0], bool) or item[0] not in self.teeth:
+                    raise MeshingError(
+                        f"{self.body}: fine_fillets entry {item!r}: must be (tooth, 'pos' or "
+                        f"'neg') with a tooth of the body ({self.teeth})"
+                    )
         m = g.normal_module
         if g.internal:
             if self.inner_radius is not None:
@@ -109,6 +120,8 @@ class GearBody:
     def params(self) -> dict:
         """Canonical parameters (for the cache key)."""
         d = {k: v for k, v in asdict(self).items() if k != "gear"}
+        if self.fine_fillets is None:  # the key of a body without it is the key it had
+            del d["fine_fillets"]
         d["gear"] = {k: v for k, v in asdict(self.gear).items()}
         d["body"] = self.body
         return d

@@ -12,11 +12,60 @@ puts about 3 elements across an active tooth (a CI smoke test, not for stress), 
 about 4, level 2 about 6 and level 3 about 8; a pinion fillet gets 3, 3, 5 and 7 across.
 Measured sizes (case 1 one-branch scene, cold build on 2 cores): level 0 174k tets in 4 s,
 level 1 340k in 5 s, level 2 1.09M in 10 s, level 3 2.76M in 21 s (0.6 GB).
+
+Fillet sizes. The P1 surface root stress (:mod:`solvers.root_stress`) is far from converged
+at the fillet sizes of this ladder, and the size at which it levels off fits in memory only
+if just the fillets that are read are refined, which the scenes do not yet say: so the sizes
+are left as they were. A fillet-only ladder (:func:`with_fillet`, ``python -m
+studies.fillet_study``; 1-GB, sun angle 0, P1, serial, one child process per run; surface
+maximum in MPa; the level-0 and the first three "loaded only" runs shared the 2 cores with
+other jobs, so their times are upper bounds):
+
+    flanks   fillet  DOFs   run (s)  peak GB   sun  pinion/sun  pinion/ring  ring
+    level 0  0.6     129k    10      1.2       552   535         593          442
+    level 0  0.45    184k    23      1.8       580   635         739          476
+    level 0  0.3     333k    45      3.6       719   758         885          521
+    level 0  0.25    430k    73      4.9       762   772         834          689
+    level 1  0.45    248k    34      2.8       614   676         744          497
+    level 1  0.35    337k    60      4.0       636   693         718          527
+    level 1  0.3     430k    65      5.4       755   722         897          589
+    level 1  0.25    559k    69      7.2       739   796         880          643
+    loaded only, level-1 flanks (``GearBody.fine_fillets``: the tension fillets of the
+    teeth loaded at this position, 14 of the 52 fillets of the active teeth; the others at
+    fillet_far):
+    level 1  0.45    184k    17      1.9       571   668         680          526
+    level 1  0.3     236k    34      2.6       714   677         780          680
+    level 1  0.2     328k    40      3.9       873   823         936          608
+    level 1  0.15    434k    46      5.4       866   932         968          658
+    level 1  0.12    547k    70      7.0       901   928        1030          654
+
+Every fillet of the active teeth at 0.2 mm with level-1 flanks would be 798k DOFs (about
+11 GB, not run). Down to 0.25 mm the values rise by 10-25 % per step of 1.5 in size; from
+0.2 to 0.12 mm (loaded only) they level off and scatter: 0.15 -> 0.12 mm changes them by
++4, -0.4, +6 and -0.5 %, the ISO-line value of the sun by -0.3 % (842, 825, 823). The
+scatter is the estimator's: the surface maximum moves between neighbouring surface nodes
+(5-8 % apart) and with the mesh of the other fillets (up to 10 %, loaded only against all
+active at 0.45 mm; up to 7 % when only the far teeth's strips change, see
+:func:`meshing.body_mesh.structure_fillets`). The P1 recovery is first order in the height
+of the cells on the fillet, about 2 fillet sizes (it recovers the value about a quarter of
+a cell deep, and the stress falls to a fifth within 0.7-0.8 mm of the surface), so the
+fillet must be about 0.15 mm (cells about 0.3 mm high) for a value within the 5 % scatter;
+at level 1 (0.45 mm) the surface value is 24-32 % below the 0.12 mm value.
+P2 at level 0 (fillet 0.6 mm, 883k DOFs, 14.7 GB; the convergence study) gave 807 / 831 /
+902 / 594, 9-12 % below the 0.12 mm P1 values.
+
+The refined fillets cost about 3000 / fillet^2 nodes per sector of 7 active teeth
+(:func:`meshing.body_mesh.structure_fillets`). Refining only the tension fillets of the
+teeth in contact (``GearBody.fine_fillets``, which the scene would set from its zones'
+contact lines and drive sides) makes 0.15 mm at level 1 cost 434k DOFs, 5.4 GB and 46 s a
+position instead of 248k, 2.8 GB and 34 s (the bodies are reused across positions only if
+those fillets do not change with the position).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, fields, replace
 
 
 class MeshingError(ValueError):
@@ -26,7 +75,8 @@ class MeshingError(ValueError):
 @dataclass(frozen=True)
 class Level:
     fine: float  # flanks of active teeth
-    fillet: float  # fillets of active teeth (about 1.3 mm wide, radius ~0.5 mm)
+    fillet: float  # fillets of active teeth (about 1.3 mm wide, radius ~0.5 mm; only those
+    # of GearBody.fine_fillets when a body names them)
     tooth: float  # flanks and tips of the other teeth, tips of active teeth
     fillet_far: float  # fillets of the other teeth
     coarse: float  # body (rim, web, end faces, cut faces)
@@ -47,8 +97,39 @@ DEFAULT_LEVEL = 1
 MIN_SICN = 0.15
 
 
+def with_fillet(level, fillet: float) -> Level:
+    """``level`` (an index of :data:`LEVELS` or a :class:`Level`) with the fillet size of
+    the active teeth set to ``fillet`` (mm): a fillet-only refinement at fixed flank and body
+    sizes (studies/fillet_study.py). Pass the returned :class:`Level` wherever a level is
+    taken; the mesh cache keys hold a :class:`Level`'s sizes (a level index is covered by
+    the source of this module), so a changed size never reuses a cached mesh."""
+    return check_level(replace(check_level(level), fillet=fillet))
+
+
+def level_record(level) -> int | dict:
+    """A level as JSON: its index, or the sizes of a :class:`Level` (checked)."""
+    lv = check_level(level)
+    if isinstance(level, Level):
+        return {f.name: getattr(lv, f.name) for f in fields(Level)}
+    return level
+
+
 def check_level(level) -> Level:
-    """The :class:`Level` for ``level``; :class:`MeshingError` if out of range."""
+    """The :class:`Level` for ``level`` (an index of :data:`LEVELS`, or a :class:`Level`
+    itself, e.g. from :func:`with_fillet`, checked); :class:`MeshingError` if out of range."""
+    if isinstance(level, Level):
+        for f in fields(Level):
+            v = getattr(level, f.name)
+            if f.name == "per_circle":
+                if isinstance(v, bool) or not isinstance(v, int) or v < 8:
+                    raise MeshingError(f"level.per_circle = {v!r}: must be an integer >= 8")
+            elif (
+                isinstance(v, bool)
+                or not isinstance(v, (int, float))
+                or not (math.isfinite(v) and v > 0)
+            ):
+                raise MeshingError(f"level.{f.name} = {v!r}: must be a positive size in mm")
+        return level
     if isinstance(level, bool) or not isinstance(level, int) or not 0 <= level < len(LEVELS):
         last = len(LEVELS) - 1
         raise MeshingError(

@@ -19,7 +19,15 @@ surface cells, whose error is O(h) (their values are volume averages reaching a 
 into a stress that peaks at the surface: a lower estimate that rises as the mesh is refined;
 a least-squares extrapolation of the cell values to the surface was tried and rejected:
 with one or two cell layers across a 0.85 mm fillet radius it either averaged in the deeper,
-lower stresses or, fitted on the vertex patches, was unstable, 4.5-8x the cell values).
+lower stresses or, fitted on the vertex patches, was unstable, 4.5-8x the cell values;
+rechecked with the fillet-only ladder of studies/fillet_study.py: a patch of radius 1.5-3
+fillet edges also reaches the neighbouring tooth across the tooth space, and a fit kept to
+the cells under the vertex (material side, along the normal) gave 450-760 MPa for the sun
+at level 0 as the patch shrank from 2 to 1 edge deep (nodal 552, P2 807): no stable
+extrapolation while the stress falls from its surface value to a fifth of it within the
+first two cell layers, 0.7-0.8 mm). The fillet-only ladder (meshing/sizing.py docstring)
+finds the P1 surface value levelling off, within a 5 % scatter, at fillet sizes of
+0.12-0.15 mm; at level 1 (0.45 mm) it is 24-32 % lower.
 Measured on 1-GA at roll 0 against P2 at level 0: P1 gives 0.64-0.70 of it at level 0,
 0.68-0.78 at level 1 and 0.85-0.96 at level 2 (3, 3-4 and 5-6 elements across the fillet):
 quote P2 for the root stress. The maximum principal stress (tension positive) of the nodal

@@ -214,6 +214,72 @@ def test_cache_reuses_the_mesh(built):
     assert path2 == path and meta2["cached"]
 
 
+def test_fillet_refinement_changes_the_cache_key(built, monkeypatch):
+    """A fillet-only refinement (sizing.with_fillet) is a different mesh: another cache key
+    (the key holds the Level's sizes), so a changed size never returns the cached mesh of
+    another size; the same refinement asked twice is the same key."""
+    from meshing import cache
+
+    gb, level, path, meta, _ = built["pinion-sector-L0"]
+    fine = sizing.with_fillet(level, 0.3)
+    path2, meta2 = body_mesh_file(gb, fine)
+    assert path2 != path and meta2["params"]["level"]["fillet"] == 0.3
+    # a finer fillet strip: more elements (the base level's fillet is 0.6 mm)
+    assert meta2["elements"] > meta["elements"]
+    seen = []
+
+    def key_only(kind, params, *args, **kwargs):
+        seen.append(cache.key(kind, params))
+
+    monkeypatch.setattr(cache, "get_or_build", key_only)
+    for lv in (level, fine, sizing.with_fillet(level, 0.2), sizing.with_fillet(level, 0.3)):
+        body_mesh_file(gb, lv)
+    assert len(set(seen[:3])) == 3 and seen[3] == seen[1]
+
+
+def test_fine_fillets_refine_only_the_named_fillets(built):
+    """GearBody.fine_fillets: only the named fillet of an active tooth gets the level's
+    fillet size, its neighbour on the same tooth keeps fillet_far; the field enters the
+    cache key, and a body without it keeps the key it had (no "fine_fillets" parameter)."""
+    gb, _, _, _, _ = built["pinion-sector-L0"]
+    one = GearBody(gb.gear, first_tooth=0, n_teeth=3, inner_radius=11.0, fine_fillets=((1, "pos"),))
+    assert "fine_fillets" not in gb.params() and one.params()["fine_fillets"] == ((1, "pos"),)
+    lv = sizing.with_fillet(0, 0.3)
+    path, _ = body_mesh_file(one, lv)
+    assert path != body_mesh_file(gb, lv)[0]
+    nodes = gmsh_util.group_nodes(path)
+    pos, neg = (len(nodes[T.fillet(one.body, 1, s)]) for s in ("pos", "neg"))
+    # 0.3 mm across against fillet_far = 1.0 mm: about 3x the nodes (2x is a safe floor)
+    assert pos > 2 * neg, (pos, neg)
+
+
+@pytest.mark.parametrize("entry", [(5, "pos"), (1, "up"), (True, "pos"), "1pos"])
+def test_bad_fine_fillets_fail_before_gmsh(no_gmsh, entry):
+    g = _case1()["pinion"]
+    gb = GearBody(g, inner_radius=11.0, n_teeth=3, fine_fillets=(entry,))
+    with pytest.raises(MeshingError, match="fine_fillets entry"):
+        body_mesh_file(gb, 0)
+
+
+@pytest.mark.parametrize(
+    "change, match",
+    [
+        ({"fillet": 0.0}, "level.fillet = 0.0"),
+        ({"fillet": float("nan")}, "level.fillet = nan"),
+        ({"coarse": -1.0}, "level.coarse"),
+        ({"per_circle": 4}, "level.per_circle = 4"),
+        ({"per_circle": 64.0}, "level.per_circle = 64.0"),
+    ],
+)
+def test_bad_level_sizes_fail_before_gmsh(no_gmsh, change, match):
+    from dataclasses import replace
+
+    g = _case1()["pinion"]
+    lv = replace(sizing.LEVELS[0], **change)
+    with pytest.raises(MeshingError, match=match):
+        body_mesh_file(GearBody(g, inner_radius=11.0, n_teeth=3), lv)
+
+
 @pytest.fixture
 def no_gmsh(monkeypatch):
     """Make any use of gmsh fail loudly: errors must come before gmsh runs."""
