@@ -44,6 +44,11 @@ class ContactGrid:
         stations: optional (n,) integer station along a contact line (for line loads).
         station_length: optional (n_stations,) length of each station (mm).
         n_spread: Gauss points per tangent direction when spreading (>= 1).
+        nominal_normal: optional (gdim,) unit vector, the one direction that stands for the
+            pair (a gear mesh: the normal of its plane of action, A -> B, which readers
+            project forces on). The point normals may differ from it (a zone grid's points
+            off the contact line carry the exact flank normal there); the force the grid
+            transmits to body B is sum_k F_k n_k, not (sum_k F_k) times it. None: not given.
     """
 
     name: str
@@ -57,6 +62,7 @@ class ContactGrid:
     stations: np.ndarray | None = None
     station_length: np.ndarray | None = None
     n_spread: int = 2
+    nominal_normal: np.ndarray | None = None
 
     def __post_init__(self):
         n, gdim = np.shape(self.x_a)
@@ -80,6 +86,10 @@ class ContactGrid:
                 raise ValueError(f"grid '{self.name}': half_sizes must be (n, gdim - 1)")
         if self.stations is not None and self.station_length is None:
             raise ValueError(f"grid '{self.name}': stations need station_length")
+        if self.nominal_normal is not None:
+            nn = np.asarray(self.nominal_normal, dtype=float)
+            if np.shape(nn) != (gdim,) or not abs(np.linalg.norm(nn) - 1.0) < 1e-9:
+                raise ValueError(f"grid '{self.name}': nominal_normal must be a unit (gdim,)")
 
     @property
     def n(self) -> int:

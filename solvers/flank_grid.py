@@ -54,25 +54,32 @@ normal out of it towards the driven gear, and g0 = the exact coast separation, t
 backlash j_n (plus the modifications of the coast flanks). It carries force only where its
 gap closes (penalty contact with an active set, :mod:`solvers.contact`): an overturned
 pinion whose tilt across the face exceeds the backlash loads its coast flanks; otherwise they
-stay open. :func:`flank_contact_pairs` puts the coast pairs after all drive pairs.
+stay open. :func:`flank_contact_pairs` puts the coast pairs after all drive pairs; under the
+zone model the coast flanks get a zone grid of their own (below).
 
 Zone grid (``[numerics] contact_model = "zone"``, :func:`zone_grid`). Instead of one row on
-the theoretical lines, the drive flanks get a grid over the whole potential contact zone:
-per transverse section and tooth pair within reach, cells across the contact line graded
-from half the Hertz semi-width to h / 2, wherever the unloaded separation is below
-``[numerics] zone_gap_limit_um``; its FE compliance comes from one coarse point per section
-and its near field from the half-space (eq. (5) of :mod:`solvers.contact`).
+the theoretical lines, the flanks get a grid over the whole potential contact zone: per
+transverse section and tooth pair within reach, cells across the contact line graded from
+half the Hertz semi-width (the pair's contact modulus E*) to h / 2, wherever the unloaded
+separation is within ``[numerics] zone_gap_limit_um`` of its reference: 0 on the drive
+flanks, the section's smallest coast separation on the coast flanks (the backlash, plus
+modifications; :func:`flank_contact_pairs` says why). Its FE compliance comes from one
+coarse point per section and its near field from the half-space (eq. (5) of
+:mod:`solvers.contact`). Each zone point carries the driver's exact flank normal n_q at the
+point (n on the contact line, turned about the axis off it); every grid keeps the plane of
+action's n as its ``nominal_normal``, and the force a grid transmits is sum_k F_k n_k.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from numbers import Real
 
 import numpy as np
 
-from gears.material import STEEL
 from gears.microgeometry import flank_modification
 from gears.profile import involute_deviation
 from meshing.mesh_zones import coast_zone, flank_of
@@ -94,6 +101,7 @@ class FlankGridInfo:
     mod_a: np.ndarray | None = None  # flank modifications of the driver at the points (mm)
     mod_b: np.ndarray | None = None  # the same for the driven gear
     flanks: str = "drive"  # "drive" or "coast"
+    fallback: str | None = None  # why a coast view got its line grid under the zone model
 
 
 def _helix_rate(gear) -> float:
@@ -221,6 +229,7 @@ def flank_grid(
         stations=np.arange(m),
         station_length=seg.copy(),
         n_spread=n_spread,
+        nominal_normal=n,
     )
     info = FlankGridInfo(lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks)
     return grid, info
@@ -232,6 +241,8 @@ DESIGN_CONTACT_STRESS = 1500.0
 ZONE_GROWTH = 1.3
 #: profile samples per section when searching the closest point of a tooth pair
 ZONE_SAMPLES = 400
+#: fixed-point steps (at most) and step size (mm) at which the ray to the driven flank stops
+RAY_STEPS, RAY_TOL = 20, 1e-13
 
 
 def _rotate(xy: np.ndarray, c: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -298,8 +309,11 @@ def zone_grid(
     n_spread: int = 2,
     modifications: Mapping | None = None,
     gap_limit: float = 0.04,
+    *,
+    e_star: float,
+    relative: bool = False,
 ) -> tuple[ContactGrid, FlankGridInfo, ZoneLink]:
-    """Contact grid over the whole potential contact zone of a mesh zone (drive view).
+    """Contact grid over the whole potential contact zone of a mesh zone (drive or coast view).
 
     Flank parameters. The driver's flank point that reaches the plane of action after the
     driver turns on by a roll Delta = t' - t(z) lies now at
@@ -309,14 +323,28 @@ def zone_grid(
     the rotation about the driver's axis, t(z) of eq. (1), t' the driver's roll from its form
     to its tip circle (0.02 mm margin): a transverse section z is the exact involute, and
     n_q the exact flank normal (the helicoid's normals lie in the turned plane of action).
-    The separation is the distance along the normal to the driven flank (x_b = q + dev_B n
-    on it, by fixed-point steps on ``involute_deviation``), only where q lies between the
-    driven gear's form and tip circles (margins as in :func:`flank_grid`). The grid points
-    carry the plane of action's normal n, the line grid's: off the line the flank normal
-    n_q turns by v / rho (<= 2 deg over a Hertz band of +-0.3 mm at rho >= 10 mm), which
-    changes the approach by 1 - cos, and the force components across cancel over a band
-    symmetric about the line; every grid point then has one normal per pair, as consumers
-    of the line grid expect (``normals[0]``). The closest-point search uses n_q.
+    The separation is the distance along n_q to the driven flank, x_b = q + dev_B n_q on it
+    (the root of dev_B(q + s n_q) = 0 by fixed-point steps s <- s + dev_B, which converge
+    like 1 - cos of the angle between n_q and the driven flank's normal, to 1e-13 mm), only
+    where q lies between the driven gear's form and tip circles (margins as in
+    :func:`flank_grid`).
+
+    Normals. Every grid point carries its own n_q, the driver's exact flank normal (out of
+    the driver, towards the driven gear): the gap, the gap operator's rows, the rigid
+    columns and the force F_k n_k all act along it. Off the line n_q turns by the roll
+    difference, about v / rho_a (v the profile distance from the line), up to ~10 deg at the
+    band's edge (~0.7 mm at the 40 um limit), where a tilted pinion's face-end load sits;
+    the plane of action's n there (the earlier choice) moved 1-GC My_pin (level 0, roll 0)
+    by 3 % (108.4 against 105.1 N m with n_q). With n_q the moment of F_k n_k about the
+    driver's axis has the exact arm r_b cos(beta_b) at every point. n_z is the same at every
+    point (the turn is about the axis): |n_q,xy| = cos(beta_b). The mesh force is
+    sum_k F_k n_k; the plane of action's n is kept as the grid's ``nominal_normal``
+    (:class:`solvers.contact_grid.ContactGrid`), the direction readers project on.
+    Open: off the line the driven flank's normal at x_b differs from n_q by about v / R
+    (R the relative radius of curvature), so the arm of F_k n_k about the driven gear's axis
+    is not exactly its r_b cos(beta_b) (an overturned 1-GC pinion: 2.8 deg force-weighted at
+    the sun mesh, its arm about the pinion axis 2.0 % short); the drive and coast forces of
+    a mesh still balance both gears exactly, as every point force acts on one line.
 
     Grid. Per tooth pair within reach (every driver tooth whose roll t(z) lies within one
     base pitch of the contact window somewhere on the face, so at least one pair beyond the
@@ -327,18 +355,31 @@ def zone_grid(
     (+ micro) on ZONE_SAMPLES points; the section is centred on its smallest g0, and cut
     across the line (along the profile arc v = r_b (t'^2 - t(z)^2) / 2, the distance from
     the contact line on the developed flank) into cells of width d0 at the centre growing by
-    ZONE_GROWTH to h / 2. d0 = a_H / 2 with the Hertz semi-width a_H = 2 R p_d / E* of steel at
-    the design contact stress p_d = DESIGN_CONTACT_STRESS, R the relative radius of curvature
-    there (1/R = 1/rho_a +- 1/rho_b, rho the roll lengths). A cell is kept where g0 at its
-    centre is below ``gap_limit`` (mm). It stands for the patch seg x (cell width) and is
+    ZONE_GROWTH to h / 2. d0 = a_H / 2 with the Hertz semi-width at the design contact
+    stress p_d = DESIGN_CONTACT_STRESS,
+
+        a_H = 2 R p_d / E*,   d0 = R p_d / E*   (clipped to [0.01 mm, h / 2]),          (2)
+
+    (from a_H = sqrt(4 w R / (pi E*)) and p_d = sqrt(w E* / (pi R)): at a given stress the
+    band widens as 1 / E*), R the relative radius of curvature there (1/R = 1/rho_a +-
+    1/rho_b, rho the roll lengths), ``e_star`` the pair's contact modulus (MPa), 1/E* =
+    (1 - nu_A^2)/E_A + (1 - nu_B^2)/E_B of the study's material, the one the penalty and the
+    half-space use (:mod:`solvers.contact`). A cell is kept where g0 at its centre is below
+    g_ref(z_i) + ``gap_limit`` (mm): g_ref = 0 by default (the drive flanks, which touch on
+    perfect involutes), and with ``relative`` the smallest g0 of the section over every
+    tooth pair in reach (the coast flanks, see :func:`flank_contact_pairs`). It stands for
+    the patch seg x (cell width) and is
     spread over it by the gap operator as the line grid's points are. The cells end 0.02 mm
     inside the tip and form circles of both gears (the tooth models have sharp tips, no tip
     rounding), so tip and corner contact beyond the path is caught by the last cells there.
 
     Coarse grid (FE far field, :class:`solvers.contact_grid.ZoneLink`): one point per kept
     section and tooth pair at the section's centre (the theoretical contact line on pairs in
-    the path), patch seg x ``width`` (default h) along the turned line and across, narrowed
-    at tips as in :func:`flank_grid`; every fine point of the section takes its column. The
+    the path, where n_q = n up to the vertex refinement; the closest corner beyond the path),
+    with the flank normal n_q there, patch seg x ``width`` (default h) along the turned line
+    and across, narrowed at tips as in :func:`flank_grid`; every fine point of the section
+    takes its column (the fine normals differ from the coarse one by the turn across the
+    section, the far field is taken along the coarse one). The
     matching depth below it in each tooth (:func:`_matching_depth`): one coarse width, less
     near a thin tip.
     Independent of the FE mesh: h only sets the coarse spacing.
@@ -372,7 +413,9 @@ def zone_grid(
     pitch = 2 * math.pi / ga.teeth
     c_dt = -s * k  # dt/dz
     g_len = zone.centre_distance * math.sin(zone.pressure_angle)
-    e_star = STEEL.youngs_modulus / (2.0 * (1.0 - STEEL.poisson_ratio**2))
+    if isinstance(e_star, bool) or not isinstance(e_star, Real) or not 0 < e_star < math.inf:
+        raise ValueError(f"zone {zone.name}: e_star = {e_star!r} must be a finite number > 0 MPa")
+    e_star = float(e_star)
     mods = modifications or {}
     dmax = 0.5 * spacing
 
@@ -389,17 +432,20 @@ def zone_grid(
         return q, turn(n), turn(tline), turn(t2)
 
     def separation(q, nq):
-        """dev_A, the ray distance from q along n_q to the driven flank (two fixed-point
-        steps on the normal distance; the normals differ by ~ v / rho off the line), the
-        modifications and their sum with micro."""
+        """dev_A, the ray distance from q along n_q to the driven flank (fixed-point steps
+        on the normal distance until a step is below RAY_TOL; the normals differ by about
+        v / R off the line), the modifications and their sum with micro."""
         la, lb = drv.placement.inverse(q), dvn.placement.inverse(q)
         dev_a = involute_deviation(ga, la, zone.driver_side)
         dev_b = involute_deviation(gb, lb, zone.driven_side)
-        for _ in range(3):
+        for _ in range(RAY_STEPS):
             xb = dvn.placement.inverse(q + dev_b[:, None] * nq)
             # mm; the rest lies far beyond any gap limit (or off the helicoid)
             near = (np.abs(dev_b) < 0.5) & (np.hypot(xb[:, 0], xb[:, 1]) > gb.base_radius)
-            dev_b[near] += involute_deviation(gb, xb[near], zone.driven_side)
+            step = involute_deviation(gb, xb[near], zone.driven_side)
+            dev_b[near] += step
+            if not np.abs(step).max(initial=0.0) > RAY_TOL:
+                break
         mod_a = flank_modification(ga, mods.get(drv.gear_name), zone.driver_side, la)
         mod_b = flank_modification(gb, mods.get(dvn.gear_name), zone.driven_side, lb)
         mic = mod_a + mod_b
@@ -407,10 +453,8 @@ def zone_grid(
             mic = mic + np.asarray(micro(zone, q), float).reshape(len(q))
         return dev_a, dev_b, mod_a, mod_b, mic
 
-    fine: dict[str, list] = {key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp")}
-    coarse: dict[str, list] = {key: [] for key in ("z", "t", "tz", "v", "grp")}
-    lines = []
-    n_fine = 0
+    # pass 1: the unloaded separation g0(t') of every section of every tooth pair in reach
+    sampled = []
     for j_a in range(ga.teeth):
         theta0 = fa.theta0 + j_a * pitch + drv.placement.angle
         t0 = s * ((((zone.tau - theta0) + math.pi) % (2 * math.pi)) - math.pi)
@@ -425,11 +469,23 @@ def zone_grid(
         okf = (rad_b >= rb_lo) & (rad_b <= rb_hi)
         if not okf.any():
             continue
-        ok = okf.reshape(m_z, ZONE_SAMPLES)
         g = np.full(len(q), np.inf)
         dev_a, dev_b, _, _, mic = separation(q[okf], nq_s[okf])
         g[okf] = dev_a + dev_b + mic
-        g = g.reshape(m_z, ZONE_SAMPLES)
+        sampled.append((j_a, tz, okf.reshape(m_z, ZONE_SAMPLES), g.reshape(m_z, ZONE_SAMPLES)))
+    # the reference each cell's g0 is held against: 0 (absolute), or per section the smallest
+    # g0 over every tooth pair in reach (relative; inf where no pair has flank there)
+    g_ref = np.zeros(m_z)
+    if relative:
+        g_ref = np.min([np.where(ok, g, np.inf).min(axis=1) for _, _, ok, g in sampled]
+                       or [np.full(m_z, np.inf)], axis=0)  # fmt: skip
+    limit = g_ref + gap_limit
+    # pass 2: cells of each section where g0 < limit
+    fine: dict[str, list] = {key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp")}
+    coarse: dict[str, list] = {key: [] for key in ("z", "t", "tz", "v", "grp")}
+    lines = []
+    n_fine = 0
+    for j_a, tz, ok, g in sampled:
         v = 0.5 * rb * (t_s[None, :] ** 2 - tz[:, None] ** 2)
         grp = len(lines)
         first = n_fine
@@ -439,7 +495,7 @@ def zone_grid(
                 continue
             gi = np.where(ok[i], g[i], np.inf)
             c_i = int(np.argmin(gi))
-            if gi[c_i] >= gap_limit:
+            if not gi[c_i] < limit[i]:
                 continue
             vi = v[i, ok[i]]
             v_c = v[i, c_i]
@@ -454,7 +510,7 @@ def zone_grid(
             vc = 0.5 * (edges[1:] + edges[:-1])
             dv = np.diff(edges)
             gc = np.interp(vc, vi, g[i, ok[i]])
-            keep = (gc < gap_limit) & (dv > 0.05 * d0)
+            keep = (gc < limit[i]) & (dv > 0.05 * d0)
             if not keep.any():
                 continue
             sec = len(coarse["z"])
@@ -486,15 +542,14 @@ def zone_grid(
             }
         )
     if not lines:
-        raise ValueError(f"zone {zone.name}: no flank point within {gap_limit * 1e3:g} um")
+        of = " of the smallest separation" if relative else ""
+        raise ValueError(f"zone {zone.name}: no flank point within {gap_limit * 1e3:g} um{of}")
     F = {key: np.concatenate(val) for key, val in fine.items()}
-    x, _, tl, tt = flank_points(F["z"], F["t"], F["tz"])
-    nq = np.tile(n, (len(x), 1))  # the plane of action's normal (docstring)
+    x, nq, tl, tt = flank_points(F["z"], F["t"], F["tz"])  # n_q: the flank normal per point
     dev_a, dev_b, mod_a, mod_b, mic = separation(x, nq)
     m = len(x)
     C = {key: np.asarray(val) for key, val in coarse.items()}
-    xc, _, tlc, ttc = flank_points(C["z"], C["t"], C["tz"])
-    nc = np.tile(n, (len(xc), 1))
+    xc, nc, tlc, ttc = flank_points(C["z"], C["t"], C["tz"])
     dva_c, dvb_c, _, _, mic_c = separation(xc, nc)
     pitch_b = 2 * math.pi / gb.teeth
     sb = 1 if zone.driven_side == "pos" else -1
@@ -519,6 +574,7 @@ def zone_grid(
         stations=np.arange(mc),
         station_length=np.full(mc, seg),
         n_spread=n_spread,
+        nominal_normal=n,
     )
     grid = ContactGrid(
         zone.name,
@@ -532,6 +588,7 @@ def zone_grid(
         stations=F["sec"].astype(int),
         station_length=np.full(mc, seg),
         n_spread=n_spread,
+        nominal_normal=n,
     )
     link = ZoneLink(
         coarse_grid,
@@ -552,18 +609,40 @@ def zone_grid(
 def flank_contact_pairs(
     scene, spacing: float, width, micro, *, modifications: Mapping | None = None,
     coast: bool = True, contact_model: str = "line", gap_limit: float = 0.04,
+    e_plane: Mapping[str, float] | None = None,
 ):  # fmt: skip
     """Contact grids on the exact theoretical contact lines of every mesh zone of the scene,
     and the contact pairs (driver, driven) that carry them: the drive-flank pairs of every
-    zone first, then (``coast``) the coast-flank pairs.
+    zone first, then (``coast``) the coast-flank pairs, ``standby`` (open by the backlash).
 
     Returns ``(grids, pairs)``, ``grids`` by grid name: ``driver-driven`` (drive flanks) and
     ``driver-driven/coast`` (coast flanks), each (grid, :class:`FlankGridInfo`).
     ``modifications``: the gear set's flank modifications by gear name
-    (:attr:`cases.gearset.GearSet.modifications`). ``contact_model`` "zone"
-    (:attr:`cases.study_case.Numerics.contact_model`): the drive flanks get
-    :func:`zone_grid` (points where g0 < ``gap_limit`` mm) with its FE link; the coast
-    flanks, open by the backlash, keep their contact-line grids."""
+    (:attr:`cases.gearset.GearSet.modifications`).
+
+    ``contact_model`` "zone" (:attr:`cases.study_case.Numerics.contact_model`): every flank
+    pair gets :func:`zone_grid` with its FE link, graded with the pair's contact modulus
+    1/E* = 1/E'_driver + 1/E'_driven from ``e_plane`` (plane-strain modulus E / (1 - nu^2)
+    by body name, required; as :mod:`solvers.contact` forms it for the penalty and the
+    half-space). Drive flanks: points where g0 < ``gap_limit`` mm. Coast flanks: points
+    where g0 < g_ref(z) + ``gap_limit``, g_ref(z) the smallest coast separation of the
+    transverse section z over every tooth pair in reach (``relative``). Why per section:
+    the coast flanks close under a rigid tilt or misalignment of a body (an overturned
+    pinion), which changes the gap linearly along the face, and under lead modifications,
+    which vary along the face; a reference per section keeps every section's closest band,
+    so the face ends, where a tilt closes the backlash first, are always on the grid
+    (with one reference per zone, a lead crown of more than ``gap_limit`` would drop them).
+    Why over the tooth pairs of the section, not per pair: within a section the pairs see
+    about the same body motion, so a pair whose separation exceeds the section's smallest by
+    more than ``gap_limit`` (the corners of the pairs beyond the path) cannot close first,
+    as on the drive flanks; a reference per pair would lay a band at every such corner. On
+    perfect involutes g_ref is the normal backlash j_n on every section, the coast contact
+    lines carry the smallest cells, and the grid is the drive grid's mirror image.
+    Fallback: a coast view where :func:`zone_grid` finds no cell (no tooth pair in reach;
+    its ``ValueError``) gets its contact-line grid (:func:`flank_grid`, penalty contact as
+    in the line model) and ``FlankGridInfo.fallback`` says so, with a warning; the coast
+    flanks are never dropped. The drive flanks have no fallback: no drive cell within the
+    limit is an error."""
     views = list(scene.zones)
     if coast:
         views += [coast_zone(zn, scene.gear(zn.driver), scene.gear(zn.driven)) for zn in views]
@@ -572,17 +651,37 @@ def flank_contact_pairs(
         raise ValueError(f"contact_model = {contact_model!r}: must be 'line' or 'zone'")
     for zn in views:
         drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
-        link = None
-        if contact_model == "zone" and zn.flanks == "drive":
-            g, info, link = zone_grid(zn, drv, dvn, spacing, width, micro,
-                                      modifications=modifications, gap_limit=gap_limit)  # fmt: skip
-        else:
+        link, note = None, None
+        if contact_model == "zone":
+            e_star = pair_contact_modulus(e_plane, zn.driver, zn.driven)
+            try:
+                g, info, link = zone_grid(zn, drv, dvn, spacing, width, micro,
+                                          modifications=modifications, gap_limit=gap_limit,
+                                          e_star=e_star, relative=zn.flanks == "coast")  # fmt: skip
+            except ValueError as err:
+                if zn.flanks != "coast":
+                    raise
+                note = f"{err}; the coast flanks keep their contact-line grid"
+                warnings.warn(note, stacklevel=2)
+        if link is None:
             g, info = flank_grid(zn, drv, dvn, spacing, width, micro,
                                  modifications=modifications)  # fmt: skip
+            info.fallback = note
         grids[g.name] = (g, info)
         pairs.append(ContactPair(g, zn.driver, zn.driven, standby=zn.flanks == "coast",
                                  link=link))  # fmt: skip
     return grids, pairs
+
+
+def pair_contact_modulus(e_plane: Mapping[str, float] | None, a: str, b: str) -> float:
+    """E* (MPa) of the bodies ``a`` and ``b``: 1/E* = sum 1/E'_i over those in ``e_plane``
+    (plane-strain modulus E / (1 - nu^2) by body name; a rigid obstacle is not in it)."""
+    if not e_plane:
+        raise ValueError("contact_model = 'zone' needs e_plane (E / (1 - nu^2) by body name)")
+    e = [float(e_plane[nm]) for nm in (a, b) if nm in e_plane]
+    if not e or not all(math.isfinite(v) and v > 0 for v in e):
+        raise ValueError(f"pair {a}-{b}: no finite plane-strain modulus > 0 in e_plane")
+    return 1.0 / sum(1.0 / v for v in e)
 
 
 def is_coast(grid_name: str) -> bool:

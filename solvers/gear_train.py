@@ -306,6 +306,7 @@ def build_gear_train(
     every, pairs = flank_contact_pairs(
         scene, spacing, width, micro, modifications=mods,
         contact_model=num.contact_model, gap_limit=num.zone_gap_limit_um * 1e-3,
+        e_plane={b.name: b.material.e_plane for b in bodies},
     )  # fmt: skip
     grids = {k: v for k, v in every.items() if not is_coast(k)}
     coast_grids = {mesh_name(k): v for k, v in every.items() if is_coast(k)}

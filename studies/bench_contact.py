@@ -11,9 +11,17 @@ so the sweep isolates the penalty). Recorded:
 * cost: contact grid points, FE points (the coarse grid of "zone"), FE compliance columns
   formed, seconds in the compliance, the active set and the whole position (model + solve,
   body factorizations included; meshes from the cache);
+* the coast flanks: their grid points and FE points, whether every coast pair is on a zone
+  grid (``coast_zoned``; "zone" lays them over the coast contact zone, exact contact, so
+  no pair of the zone model then carries a penalty) or on its contact lines (penalty), and
+  per penalty factor the coast force;
 * the paper's moments My_pin, M_LOA_sun, M_LOA_ring and the load centroids ZS, ZR per
   penalty factor, and their spread over the sweep, (max - min) / |value at the case's
   penalty factor| (ZS, ZR also in mm);
+* per penalty factor and grid (drive and coast), the force on each pinion in it, in the
+  pinion's frame: sum_k F_k n_k over the points (``mesh_force_on_pinion_N``, each point
+  along its own normal), and (sum_k F_k) times the grid's nominal normal (the plane of
+  action's, ``..._nominal_N``), which differ where a zone grid's points lie off the line;
 * line loads: per contact line with at least 6 stations, the end stations' line load over
   the interior mean (stations 3 .. n-2), the end labelled ``face_end`` (within one station
   of a face end) or ``path_end`` (where the line leaves the path of contact);
@@ -82,6 +90,25 @@ def _stations(model, result, i):
             best[st[k]] = F[k]
             where[st[k]] = g.x_a[k]
     return q, pmax, where
+
+
+def _mesh_forces(model, result) -> dict:
+    """Per grid and pinion in it: the force on the pinion (pinion frame, N), sum_k F_k n_k
+    (per point) and (sum_k F_k) n_nominal (the grid's nominal normal)."""
+    p = model.problem
+    out = {}
+    for i, pr in enumerate(p.pairs):
+        F = result.forces[p.offsets[i] : p.offsets[i + 1]]
+        g = pr.grid
+        for pn, sgn in ((pr.body_a, -1.0), (pr.body_b, +1.0)):
+            if pn not in model.frames:
+                continue
+            Q = model.frames[pn]
+            out[f"{g.name} on {pn}"] = {
+                "per_point_N": (sgn * (Q @ (F @ np.asarray(g.normals, float)))).tolist(),
+                "nominal_N": (sgn * F.sum() * (Q @ np.asarray(g.nominal_normal))).tolist(),
+            }
+    return out
 
 
 def _hertz(study, scene, zone_name, x, q):
@@ -188,13 +215,16 @@ def run_case(case, model_name, level, roll, factors, comm, store) -> dict:
         pm = paper_moments(train, scene, study.gearset)
         rows[f] = {k: float(pm[k]) for k in MOMENTS}
         rows[f]["active_points"] = int(np.count_nonzero(res.forces > 0))
+        rows[f]["coast_force_N"] = float(train.get("coast_force_N", 0.0))
         rows[f]["solve_s"] = te - ts
         rows[f]["resultant_mismatch_rel"] = train["resultant_mismatch_rel"]
+        rows[f]["mesh_force_on_pinion_N"] = _mesh_forces(model, res)
         if f == num.penalty_factor:
             cost = {"columns": int(p.timings["compliance_columns"]),
                     "compliance_s": float(p.timings["compliance"])}  # fmt: skip
             first = (res, te - t1, dict(res.timings))
     res, wall, timings = first
+    coast = [pr for pr in p.pairs if is_coast(pr.grid.name)]
     ref = rows[num.penalty_factor]
     spread = {}
     for k in MOMENTS:
@@ -212,6 +242,11 @@ def run_case(case, model_name, level, roll, factors, comm, store) -> dict:
         "zone_gap_limit_um": num.zone_gap_limit_um,
         "grid_points": int(p.n),
         "fe_points": int(p.n_fe),
+        "coast_grid_points": int(sum(pr.grid.n for pr in coast)),
+        "coast_fe_points": int(
+            sum(pr.grid.n if pr.link is None else pr.link.coarse.n for pr in coast)
+        ),
+        "coast_zoned": bool(coast) and all(pr.link is not None for pr in coast),
         "compliance_columns": cost["columns"],
         "compliance_s": cost["compliance_s"],
         "compliance_columns_whole_sweep": int(p.timings["compliance_columns"]),
@@ -245,7 +280,8 @@ def main(argv=None) -> int:
             if comm.rank == 0:
                 sp = r["spread_over_sweep"]
                 print(
-                    f"{case} {m}: {r['grid_points']} points, {r['compliance_columns']} FE "
+                    f"{case} {m}: {r['grid_points']} points ({r['coast_grid_points']} coast, "
+                    f"zoned {r['coast_zoned']}), {r['compliance_columns']} FE "
                     f"columns, {r['position_s']:.1f} s; spread over the sweep "
                     + ", ".join(f"{k} {100 * sp[k]:.2f} %" for k in MOMENTS),
                     flush=True,

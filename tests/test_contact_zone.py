@@ -18,16 +18,20 @@ from cases.study_case import (
 from gears.material import STEEL
 from gears.microgeometry import FlankModifications
 from gears.profile import involute_deviation
-from meshing import scenes
+from meshing import mesh_zones, scenes
 from solvers.flank_grid import (
     DESIGN_CONTACT_STRESS,
     flank_contact_pairs,
     flank_grid,
+    pair_contact_modulus,
     zone_grid,
 )
 
 UM = 1e-3
 STUDY = load_study_case("1-GA")
+#: the study's plane-strain modulus E / (1 - nu^2) and the pair's contact modulus (two gears)
+E_PLANE = STUDY.material.gear_youngs_modulus / (1 - STUDY.material.poisson_ratio**2)
+ES = E_PLANE / 2
 
 
 @pytest.fixture(scope="module")
@@ -64,7 +68,7 @@ def test_contact_model_is_read_and_hashed():
 def test_zone_grid_lies_on_the_driver_flank_within_the_gap_limit(scene, zi):
     zn = scene.zones[zi]
     drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
-    grid, info, _ = zone_grid(zn, drv, dvn, 0.7, gap_limit=40 * UM)
+    grid, info, _ = zone_grid(zn, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES)
     # every point on the driver's exact flank (the turned plane-of-action construction)
     dev = involute_deviation(drv.gear, drv.placement.inverse(grid.x_a), zn.driver_side)
     assert np.abs(dev).max() < 1e-9
@@ -72,14 +76,6 @@ def test_zone_grid_lies_on_the_driver_flank_within_the_gap_limit(scene, zi):
     dev_b = involute_deviation(dvn.gear, dvn.placement.inverse(grid.x_b), zn.driven_side)
     assert np.abs(dev_b).max() < 1e-9
     assert np.all(grid.gap0 < 40 * UM) and np.all(grid.gap0 > -1e-9)
-    # the normal is the plane of action's, within 10 degrees of the flank normal at the
-    # zone's edges (v / rho, v <= 1.1 mm near the form circle, rho >= 8 mm): a small step
-    # along it changes the driver's deviation by cos(angle) times the step
-    eps = 1e-4
-    step = involute_deviation(drv.gear, drv.placement.inverse(grid.x_a + eps * grid.normals),
-                              zn.driver_side)  # fmt: skip
-    assert np.all(step > eps * math.cos(math.radians(10))) and np.all(step < eps * (1 + 1e-6))
-    assert np.allclose(grid.normals, grid.normals[0], atol=1e-15)
     # far more points than the contact-line grid, every one within a tooth pair's rows
     line, linfo = flank_grid(zn, drv, dvn, 0.7)
     assert grid.n > 5 * line.n
@@ -93,10 +89,63 @@ def test_zone_grid_lies_on_the_driver_flank_within_the_gap_limit(scene, zi):
     assert sum(ln["length"] for ln in info.lines) > 1.1 * sum(ln["length"] for ln in linfo.lines)
 
 
+def _flank_normal(pg, side, x, e=1e-3):
+    """The exact flank normal at points x on it: the gradient of the exact normal distance
+    (involute_deviation, |grad| = 1), by the fourth-order central difference
+    (8 (f(e) - f(-e)) - (f(2e) - f(-2e))) / (12 e). Its error: e^4 f^(5) / 30 with
+    f^(5) ~ 1 / rho^4 (rho >= 2 mm here) is below 1e-14, the round-off of f (~1e-14 mm)
+    times 18 / (12 e) about 1e-11; measured 2e-12 .. 6e-12 against the grids' normals."""
+
+    def f(y):
+        return involute_deviation(pg.gear, pg.placement.inverse(y), side)
+
+    out = np.zeros_like(x)
+    for c in range(3):
+        d = np.zeros(3)
+        d[c] = e
+        out[:, c] = (8 * (f(x + d) - f(x - d)) - (f(x + 2 * d) - f(x - 2 * d))) / (12 * e)
+    return out
+
+
+@pytest.mark.parametrize("zi", [0, 1])
+@pytest.mark.parametrize("flanks", ["drive", "coast"])
+def test_zone_grid_normals_are_the_exact_flank_normals(scene, zi, flanks):
+    """Every zone point (and coarse point) carries the driver's exact flank normal there,
+    out of the driver: the gradient of its exact normal distance, to 1e-9 (the difference
+    stencil's error is ~1e-11, see _flank_normal). Off the contact line it is turned about
+    the axis from the plane of action's normal n (up to 4.4 deg at the sun mesh, 7.8 deg at
+    the ring mesh, measured), which the grid keeps as its nominal normal: the line grid's."""
+    zn = scene.zones[zi]
+    drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
+    view = zn if flanks == "drive" else mesh_zones.coast_zone(zn, drv, dvn)
+    grid, _, link = zone_grid(view, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES,
+                              relative=flanks == "coast")  # fmt: skip
+    line, _ = flank_grid(view, drv, dvn, 0.7)
+    for g in (grid, link.coarse):
+        assert np.abs(_flank_normal(drv, view.driver_side, g.x_a) - g.normals).max() < 1e-9
+        # the gap is measured along it: x_b = x_a + dev_B n_k, g0 = dev_A + dev_B (no
+        # modifications here), dev_A ~1e-14 mm (x_a on the driver flank)
+        assert np.allclose(g.x_b - g.x_a, g.gap0[:, None] * g.normals, rtol=0, atol=1e-12)
+        # the nominal normal: the plane of action's, the line grid's (one normal, exact n)
+        assert np.allclose(line.normals, line.nominal_normal, rtol=0, atol=1e-15)
+        assert np.array_equal(g.nominal_normal, line.nominal_normal)
+    # the points off the line are turned about the axis: the same n_z, a transverse turn of
+    # several degrees at the band's edges (a grid with n throughout would fail above)
+    turn = np.degrees(np.arccos(np.clip(grid.normals @ grid.nominal_normal, -1.0, 1.0)))
+    assert turn.max() > 3.0
+    assert np.abs(grid.normals[:, 2] - grid.nominal_normal[2]).max() < 1e-15
+    # on the line (the coarse points of the pairs in the path, g0 at its smallest) n_q = n
+    # up to the vertex refinement of the centre (measured < 3e-6 rad)
+    c = link.coarse
+    on = np.abs(c.gap0 - c.gap0.min()) < 1e-9
+    assert on.sum() >= line.n - 4
+    assert np.abs(c.normals[on] - c.nominal_normal).max() < 1e-5
+
+
 def test_zone_grid_is_centred_and_graded_on_the_contact_line(scene):
     zn = scene.zones[0]
     drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
-    grid, _, link = zone_grid(zn, drv, dvn, 0.7)
+    grid, _, link = zone_grid(zn, drv, dvn, 0.7, e_star=ES)
     line, _ = flank_grid(zn, drv, dvn, 0.7)
     # on a pair in the path the section's centre (coarse point) is on the theoretical line:
     # g0 = 0 there (perfect involutes), and the cell there is the narrowest of its section
@@ -105,6 +154,7 @@ def test_zone_grid_is_centred_and_graded_on_the_contact_line(scene):
     assert on_line.sum() >= line.n - 4  # the line grid's segments, ends aside
     # the finest cell: half the Hertz semi-width at the design stress, R the relative radius
     e_star = STEEL.youngs_modulus / (2 * (1 - STEEL.poisson_ratio**2))
+    assert ES == pytest.approx(e_star, rel=1e-15)  # 1-GA is steel
     dv = 2 * link.half[:, 1]
     fin = dv[np.abs(link.plane[:, 1] - link.plane_coarse[link.parent, 1]) < 1e-9]
     a_h_max = 2 * 60.0 * DESIGN_CONTACT_STRESS / e_star  # R < 60 mm for these gears
@@ -121,12 +171,14 @@ def test_zone_grid_is_centred_and_graded_on_the_contact_line(scene):
 def test_zone_grid_gap_limit_and_modifications(scene):
     zn = scene.zones[0]
     drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
-    narrow, _, _ = zone_grid(zn, drv, dvn, 0.7, gap_limit=10 * UM)
-    wide, _, _ = zone_grid(zn, drv, dvn, 0.7, gap_limit=40 * UM)
+    narrow, _, _ = zone_grid(zn, drv, dvn, 0.7, gap_limit=10 * UM, e_star=ES)
+    wide, _, _ = zone_grid(zn, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES)
     # sqrt(2 R g): about half the profile extent at a quarter of the limit
     assert 0.3 < narrow.n / wide.n < 0.7
     mods = {drv.gear_name: FlankModifications(lead_crown_um=20.0)}
-    crowned, cinfo, _ = zone_grid(zn, drv, dvn, 0.7, modifications=mods, gap_limit=40 * UM)
+    crowned, cinfo, _ = zone_grid(
+        zn, drv, dvn, 0.7, modifications=mods, gap_limit=40 * UM, e_star=ES
+    )
     # the crown opens the face ends: fewer points there, and the modification enters g0
     assert crowned.n < wide.n
     assert np.all(crowned.gap0 >= cinfo.mod_a - 1e-12)
@@ -135,11 +187,153 @@ def test_zone_grid_gap_limit_and_modifications(scene):
     assert cinfo.mod_a == pytest.approx(20 * UM * (2 * z / b) ** 2, abs=1e-12)
 
 
+def _e_plane(scene, e=E_PLANE):
+    return {g.name: e for g in scene.gears}
+
+
 def test_pairs_switch_between_line_and_zone(scene):
     _, line_pairs = flank_contact_pairs(scene, 0.7, None, None)
-    _, zone_pairs = flank_contact_pairs(scene, 0.7, None, None, contact_model="zone")
+    grids, zone_pairs = flank_contact_pairs(scene, 0.7, None, None, contact_model="zone",
+                                            e_plane=_e_plane(scene))  # fmt: skip
     assert all(p.link is None for p in line_pairs)
-    # drive flanks zoned, coast flanks (open by the backlash) on their lines
-    assert [p.link is not None for p in zone_pairs] == [not p.standby for p in zone_pairs]
+    # drive and coast flanks zoned; the coast pairs standby (open by the backlash) as before
+    assert all(p.link is not None for p in zone_pairs)
+    assert [p.standby for p in zone_pairs] == [p.standby for p in line_pairs]
+    assert [p.standby for p in zone_pairs] == [False, False, True, True]
+    assert all(info.fallback is None for _, info in grids.values())
     with pytest.raises(ValueError, match="contact_model = 'x': must be 'line' or 'zone'"):
         flank_contact_pairs(scene, 0.7, None, None, contact_model="x")
+    # no silent steel: the zone model needs the bodies' moduli
+    with pytest.raises(ValueError, match=r"contact_model = 'zone' needs e_plane"):
+        flank_contact_pairs(scene, 0.7, None, None, contact_model="zone")
+    with pytest.raises(ValueError, match=r"e_star = -1\.0 must be a finite number > 0"):
+        zone_grid(scene.zones[0], *(scene.gear(n) for n in ("sun", "pinion")), 0.7, e_star=-1.0)
+
+
+def test_pair_contact_modulus_is_the_penalty_one():
+    # 1/E* = sum 1/E' over the pair's bodies (solvers.contact forms it so for the penalty)
+    assert pair_contact_modulus({"a": 2.0e5, "b": 1.0e5}, "a", "b") == pytest.approx(
+        1 / (1 / 2.0e5 + 1 / 1.0e5), rel=1e-15
+    )
+    # a rigid obstacle adds no compliance (1 / (1 / E') to round-off)
+    assert pair_contact_modulus({"a": 2.0e5}, "a", "wall") == pytest.approx(2.0e5, rel=1e-15)
+    with pytest.raises(ValueError, match="pair a-b: no finite plane-strain modulus"):
+        pair_contact_modulus({"a": 0.0}, "a", "b")
+
+
+# ------------------------------------------------------------------ coast flanks (zone)
+def _coast(scene, zi):
+    zn = scene.zones[zi]
+    drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
+    return zn, mesh_zones.coast_zone(zn, drv, dvn), drv, dvn
+
+
+@pytest.mark.parametrize("zi", [0, 1])
+def test_coast_zone_grid_on_the_coast_flanks(scene, zi):
+    zn, cz, drv, dvn = _coast(scene, zi)
+    grid, info, link = zone_grid(cz, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES, relative=True)
+    line, linfo = flank_grid(cz, drv, dvn, 0.7)
+    j_n = STUDY.gearset.meshes[zi].normal_backlash
+    assert grid.name == cz.name and info.flanks == "coast" and link.coarse.n > 0
+    # on the driver's exact coast flank; x_b on the driven coast flank
+    for pg, x, side in ((drv, grid.x_a, cz.driver_side), (dvn, grid.x_b, cz.driven_side)):
+        assert np.abs(involute_deviation(pg.gear, pg.placement.inverse(x), side)).max() < 1e-9
+    # its smallest g0 is the line grid's, the normal backlash: on perfect involutes the coast
+    # separation along the contact line is j_n, and the central cell sits on that line up to
+    # the vertex refinement of the sampled separation (dv ~ 1e-5 mm, dv^2 / 2R ~ 1e-11 mm);
+    # 1e-9 mm as for the drive grid's coarse points (measured ~1e-14 mm). Nothing is closer
+    # (the ray along the plane of action's normal is no shorter than the normal distance).
+    assert np.abs(line.gap0 - j_n).max() < 1e-12
+    assert abs(grid.gap0.min() - line.gap0.min()) < 1e-9
+    assert grid.gap0.min() > j_n - 1e-12
+    # the band: within the limit of the section's smallest separation (j_n here)
+    assert grid.gap0.max() < j_n + 40 * UM
+    assert grid.gap0.max() > j_n + 30 * UM  # the band does reach out to about the limit
+    # the coast contact lines' tooth pairs are all there, with the line grid's driven teeth
+    pairs = {(ln["driver_tooth"], ln["driven_tooth"]) for ln in info.lines}
+    assert {(ln["driver_tooth"], ln["driven_tooth"]) for ln in linfo.lines} <= pairs
+    # every section of the face has cells, both face ends included (where a tilt closes the
+    # backlash first): the outermost section centres lie half a section inside the face
+    b = min(drv.gear.face_width, dvn.gear.face_width)
+    z = grid.x_a[:, 2]
+    n_sec = len(np.unique(np.round(z, 9)))
+    dz = b / n_sec
+    assert z.min() == pytest.approx(-b / 2 + dz / 2, abs=1e-9)
+    assert z.max() == pytest.approx(b / 2 - dz / 2, abs=1e-9)
+    # as many points as the drive zone grid, to within a few cells: the mirror image
+    drive, _, _ = zone_grid(zn, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES)
+    assert abs(grid.n - drive.n) < 0.05 * drive.n
+
+
+def test_coast_zone_keeps_the_face_ends_under_a_crown(scene):
+    """A lead crown larger than the gap limit: the drive zone grid (absolute limit) drops the
+    face ends, the coast zone grid (limit relative to each section's smallest separation)
+    keeps every section, its g0 there the backlash plus the crown."""
+    zn, cz, drv, dvn = _coast(scene, 0)
+    crown = 60.0
+    mods = {drv.gear_name: FlankModifications(lead_crown_um=crown)}
+    kw = dict(modifications=mods, gap_limit=40 * UM, e_star=ES)
+    drive, _, _ = zone_grid(zn, drv, dvn, 0.7, **kw)
+    coast, _, _ = zone_grid(cz, drv, dvn, 0.7, relative=True, **kw)
+    b = min(drv.gear.face_width, dvn.gear.face_width)  # the crown is over the sun's face
+    bs = drv.gear.face_width
+    # the crown passes 40 um at |z| = bs/2 sqrt(40/60) = 0.82 bs/2: no drive cell beyond
+    assert np.abs(drive.x_a[:, 2]).max() < 0.83 * bs / 2
+    z = coast.x_a[:, 2]
+    assert np.abs(z).max() > 0.95 * b / 2 and z.min() < -0.95 * b / 2
+    # each section's smallest coast g0: j_n + the crown there (1e-9 mm as above)
+    j_n = STUDY.gearset.meshes[0].normal_backlash
+    for zs in np.unique(np.round(z, 9))[[0, -1]]:
+        k = np.abs(z - zs) < 1e-9
+        assert coast.gap0[k].min() == pytest.approx(j_n + crown * UM * (2 * zs / bs) ** 2, abs=1e-9)
+
+
+def test_coast_zone_falls_back_to_its_line_grid(scene, monkeypatch):
+    """No coast cell within reach (here forced: zone_grid refuses the coast views): the coast
+    flanks keep their contact-line grid (standby, penalty), and the info says why."""
+    import solvers.flank_grid as fg
+
+    real = fg.zone_grid
+
+    def refuse_coast(zone, *a, **kw):
+        if zone.flanks == "coast":
+            raise ValueError(f"zone {zone.name}: no flank point within 40 um")
+        return real(zone, *a, **kw)
+
+    monkeypatch.setattr(fg, "zone_grid", refuse_coast)
+    with pytest.warns(UserWarning, match="coast flanks keep their contact-line grid"):
+        grids, pairs = fg.flank_contact_pairs(scene, 0.7, None, None, contact_model="zone",
+                                              e_plane=_e_plane(scene))  # fmt: skip
+    coast = [p for p in pairs if p.standby]
+    assert len(coast) == 2 and all(p.link is None for p in coast)
+    for p in coast:
+        line, _ = flank_grid(_coast(scene, 0 if "sun" in p.grid.name else 1)[1],
+                             scene.gear(p.body_a), scene.gear(p.body_b), 0.7)  # fmt: skip
+        assert np.array_equal(p.grid.x_a, line.x_a)
+        assert "no flank point within 40 um" in grids[p.grid.name][1].fallback
+    assert all(p.link is not None for p in pairs if not p.standby)  # no fallback on drive
+
+
+def test_zone_cells_follow_the_contact_modulus(scene):
+    """The central cell is d0 = R p_d / E* (eq. (2)): half the contact modulus (an E half
+    the study's) doubles it wherever the clip [0.01, h / 2] leaves it free, and the band
+    holds fewer, wider cells."""
+    zn = scene.zones[0]
+    drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
+    out = {}
+    for name, es in (("steel", ES), ("soft", ES / 2)):
+        grid, _, link = zone_grid(zn, drv, dvn, 0.7, gap_limit=40 * UM, e_star=es)
+        centre = np.abs(link.plane[:, 1] - link.plane_coarse[link.parent, 1]) < 1e-12
+        d0 = np.full(link.coarse.n, np.nan)
+        d0[link.parent[centre]] = 2 * link.half[centre, 1]
+        out[name] = (grid, link, d0)
+    (g1, l1, d1), (g2, l2, d2) = out["steel"], out["soft"]
+    # the same sections (the limit, not the cells, decides which sections are kept)
+    assert np.array_equal(l1.plane_coarse, l2.plane_coarse)
+    # free of the clip: d0 within [0.01, 0.35 / 2] mm for steel, so <= 0.35 mm when soft;
+    # there the ratio is E*_steel / E*_soft = 2 to round-off (the edges are sums of cells)
+    # (and a centre cell in both: a wider centre cell cut by the tip circle is not centred)
+    free = (d1 > 0.0101) & (d1 < 0.17) & np.isfinite(d2)
+    assert free.sum() > 0.5 * l1.coarse.n
+    assert d2[free] / d1[free] == pytest.approx(np.full(free.sum(), 2.0), rel=1e-9)
+    assert g2.n < g1.n
