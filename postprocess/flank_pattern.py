@@ -41,6 +41,27 @@ on one side (the neighbour left the path of contact there) covers up to 1.5 dc o
 outside it half a step. Flank points no sampled contact line reaches have no value (NaN).
 
 Grid points farther than ``ON_FLANK`` from the flank (e.g. on a coast flank) are left out.
+
+Zone grids (:func:`zone_flank_pattern`)
+---------------------------------------
+A zone grid's cells cover the contact zone around each line with the solved pressure (the
+Hertz band, 0.3-0.6 mm across in case 1, resolved by cells down to a few hundredths of a mm), and
+beyond the path of contact the corner contact at the tips. Between two sampled positions
+the band moves a phase step dc (1.0 mm of roll length for case 1 with five positions),
+several times its width, so the cells of the sampled positions alone would leave stripes: a flank
+point between two sampled bands did see the band pass over it, at a peak like theirs. The
+pattern is therefore the larger of
+
+* the envelope of the passing band: per section of every sampled position, its largest
+  cell pressure at the section's contact-line point, interpolated in phase as the line
+  grid's points are (:func:`cycle_maximum`), from the sections whose point is not at a tip
+  or form circle (``station_tip_form`` of :func:`postprocess.mesh_stress.edge_points`;
+  those are the corner contacts of tooth pairs beyond the path, not a band that moves with
+  the mesh; a band that reaches a tip from a line inside the path is kept); and
+* every cell's own pressure on its own patch (profile arc sigma = u^2 / (2 r_b) +- half its
+  width, z +- half its section, a cell narrower than the flank sampling on the nearest
+  sample), the largest over the positions, not moved in phase: a sharp tip's corner
+  contact stays at that tip while the mesh rolls, so only the sampled instants are drawn.
 """
 
 from __future__ import annotations
@@ -54,7 +75,8 @@ from gears import contact_stress
 from gears.involute import roll_length
 from gears.profile import involute_deviation
 from meshing.scenes import build_scene
-from postprocess.mesh_stress import contact_stress_at_points
+from postprocess.mesh_stress import contact_stress_at_points, edge_points
+from postprocess.train_results import mesh_stations
 
 N_U, N_Z = 49, 161  # flank samples: roll length (profile) x face width
 SAME_PHASE = 0.05  # lines closer than this many phase steps are the same phase
@@ -309,6 +331,9 @@ class FlankPattern:
     points_p: np.ndarray
     max_deviation: float  # largest |distance| of a mapped grid point from the exact flank, mm
     positions: int
+    grid_model: str = "line"  # "line" or "zone" (points_p: Hertz at points / cell pressures)
+    interior_max: float = float("nan")  # largest pressure of a non-edge point (MPa)
+    edge_max: float = float("nan")  # largest pressure of an edge point (MPa; NaN: none)
 
     @property
     def gear(self):
@@ -327,11 +352,13 @@ def _pinion_of(pos: dict, mesh: str) -> str:
 def mesh_flank_patterns(study, positions: list[dict], scenes=None) -> list[FlankPattern]:
     """Per mesh of the study's solved ``positions``, the patterns of its two drive flanks
     (the first pinion's first, then its mate's). ``scenes``: the scene of each position
-    (rebuilt from ``study`` and the position's roll if None). Hertz p_max at the grid points
-    is :func:`postprocess.mesh_stress.contact_stress_at_points`."""
+    (rebuilt from ``study`` and the position's roll if None). The pressure at the grid points
+    is :func:`postprocess.mesh_stress.contact_stress_at_points`' (Hertz p_max on a line grid,
+    the solved cell pressure on a zone grid, :func:`zone_flank_pattern`)."""
     if scenes is None:
         scenes = [build_scene(study.model.scene, study.gearset, p["roll"]) for p in positions]
     hz = [contact_stress_at_points(study.gearset, study.material, p) for p in positions]
+    edges = [edge_points(study.gearset, p) for p in positions]
     out = []
     zones = {f"{zn.driver}-{zn.driven}": zn for zn in scenes[0].zones}
     for mesh in positions[0]["meshes"]:
@@ -344,12 +371,24 @@ def mesh_flank_patterns(study, positions: list[dict], scenes=None) -> list[Flank
         pair = study.gearset.pair(*m0["gears"])
         roles = [(m0["driver"], "driver", 1), (m0["driven"], "driven", 2)]
         roles.sort(key=lambda r: r[0] != pinion)
+        zoned = m0.get("grid_model", "line") == "zone"
         for body, role, i in roles:
-            data = [(p["meshes"][mesh], sc.gear(body).placement, h[mesh]["p_max"])
-                    for p, sc, h in zip(positions, scenes, hz, strict=True)]  # fmt: skip
             zone = zones[mesh]
             side = zone.driver_side if role == "driver" else zone.driven_side
-            pattern = flank_pattern(scenes[0].gear(body).gear, side, data, active_profile(pair, i))
+            gear, path = scenes[0].gear(body).gear, active_profile(pair, i)
+            if zoned:
+                runs = zip(positions, scenes, hz, edges, strict=True)
+                data = [(p["meshes"][mesh], sc.gear(body).placement, h[mesh], e[mesh])
+                        for p, sc, h, e in runs]  # fmt: skip
+                pattern = zone_flank_pattern(gear, side, data, path)
+            else:
+                data = [(p["meshes"][mesh], sc.gear(body).placement, h[mesh]["p_max"])
+                        for p, sc, h in zip(positions, scenes, hz, strict=True)]  # fmt: skip
+                pattern = flank_pattern(gear, side, data, path)
+                e_all = np.concatenate([e[mesh]["edge"] for e in edges])
+                p_all = np.concatenate([h[mesh]["p_max"] for h in hz])
+                pattern["interior_max"] = float(p_all[~e_all].max()) if (~e_all).any() else 0.0
+                pattern["edge_max"] = float(p_all[e_all].max()) if e_all.any() else float("nan")
             out.append(FlankPattern(mesh, body, role, pinion, z_sign, **pattern))
     return out
 
@@ -393,4 +432,96 @@ def flank_pattern(gear, side: str, data, path: tuple[float, float]) -> dict:
         "points_p": np.concatenate(ps) if us else np.zeros(0),
         "max_deviation": float(np.concatenate(dev).max()) if us else 0.0,
         "positions": len(data),
+    }
+
+
+def _cell_patches(gear, side: str, mesh: dict, placement):
+    """The cells of one position of a zone grid on tooth 0's flank: (u, z, u_lo, u_hi,
+    z_lo, z_hi, on, deviation) per cell, the patch profile arc sigma +- width / 2 (width =
+    area / segment, along the profile) and z +- half the section (segment cos(beta_b))."""
+    pts = mesh["points"]
+    x = np.asarray(pts["x_mm"], float).reshape(-1, 3)
+    q = to_flank(gear, side, placement.inverse(x))
+    seg = np.asarray(mesh_stations(mesh)["length_mm"], float)[np.asarray(pts["station"], int)]
+    width = np.asarray(pts["area_mm2"], float) / seg
+    rb = gear.base_radius
+    sig = 0.5 * q["u"] ** 2 / rb
+    u_lo = np.sqrt(2.0 * rb * np.maximum(sig - 0.5 * width, 0.0))
+    u_hi = np.sqrt(2.0 * rb * (sig + 0.5 * width))
+    half_z = 0.5 * seg * math.cos(gear.base_helix_angle)
+    on = np.abs(q["deviation"]) <= ON_FLANK
+    return q, u_lo, u_hi, q["z"] - half_z, q["z"] + half_z, on
+
+
+def _splat(flank: FlankGrid, p, u_lo, u_hi, z_lo, z_hi) -> np.ndarray:
+    """(n_u, n_z) the largest p of the patches covering each flank sample (NaN: none); a
+    patch between two samples covers the sample nearest its centre."""
+    out = np.full((len(flank.u), len(flank.z)), np.nan)
+    for k in range(len(p)):
+        bounds = []
+        for axis, lo, hi in ((flank.u, u_lo[k], u_hi[k]), (flank.z, z_lo[k], z_hi[k])):
+            i0, i1 = np.searchsorted(axis, lo), np.searchsorted(axis, hi, side="right")
+            if i1 <= i0:  # narrower than the sampling: the nearest sample
+                i0 = int(np.argmin(np.abs(axis - 0.5 * (lo + hi))))
+                i1 = i0 + 1
+            bounds.append(slice(i0, i1))
+        out[bounds[0], bounds[1]] = np.fmax(out[bounds[0], bounds[1]], p[k])
+    return out
+
+
+def zone_flank_pattern(gear, side: str, data, path: tuple[float, float]) -> dict:
+    """The pattern of one flank from a zone grid (module docstring, "Zone grids"): ``data``
+    per position (mesh dict of the position, the gear's placement, its
+    :func:`postprocess.mesh_stress.contact_stress_at_points` and
+    :func:`postprocess.mesh_stress.edge_points` entries of the mesh); ``path``: the active
+    profile (u range) of the gear on the theoretical path of contact. Returns the
+    :class:`FlankPattern` fields from ``flank`` on."""
+    flank = flank_grid(gear, side)
+    p_bt = 2.0 * math.pi * gear.base_radius / gear.teeth
+    lines, us, zs, ps, dev, centroids, edge_p = [], [], [], [], [], [], []
+    cells = np.full((len(flank.u), len(flank.z)), np.nan)
+    for m, placement, h, e in data:
+        x = np.asarray(m["points"]["x_mm"], float).reshape(-1, 3)
+        f = np.clip(np.asarray(m["points"]["force_N"], float), 0.0, None)
+        if f.sum() > 0.0:
+            centroids.append(float((f * x[:, 2]).sum() / f.sum()))
+        p = np.asarray(h["p_max"], float)
+        q, u_lo, u_hi, z_lo, z_hi, on = _cell_patches(gear, side, m, placement)
+        if not on.any():
+            continue
+        patch = _splat(flank, p[on], u_lo[on], u_hi[on], z_lo[on], z_hi[on])
+        cells = np.fmax(cells, patch)
+        # the band's envelope: per section its largest cell pressure, at the section's point
+        st = mesh_stations(m)
+        sec = np.asarray(m["points"]["station"], int)
+        peak = np.zeros(len(st["x_mm"]))
+        np.maximum.at(peak, sec, p)
+        qs = to_flank(gear, side, placement.inverse(np.asarray(st["x_mm"], float).reshape(-1, 3)))
+        keep = (np.abs(qs["deviation"]) <= ON_FLANK) & ~np.asarray(e["station_tip_form"], bool)
+        if keep.any():
+            lines += split_lines(gear, side, qs["u"][keep], qs["z"][keep], peak[keep], 0.25 * p_bt)
+        us.append(q["u"][on])
+        zs.append(q["z"][on])
+        ps.append(p[on])
+        edge_p.append(np.asarray(e["edge"], bool)[on])
+        dev.append(np.abs(q["deviation"][on]))
+    u = np.concatenate(us) if us else np.zeros(0)
+    u_range = (min(path[0], float(u.min())), max(path[1], float(u.max()))) if us else path
+    samples = CycleSamples(gear, side, lines, phase_step(gear, [ln.c for ln in lines]), u_range)
+    envelope = samples.pressure(flank.u[:, None], flank.z[None, :])
+    p_all = np.concatenate(ps) if us else np.zeros(0)
+    e_all = np.concatenate(edge_p) if us else np.zeros(0, bool)
+    return {
+        "flank": flank,
+        "pressure": np.fmax(envelope, cells),
+        "samples": samples,
+        "centroid_z": float(np.mean(centroids)) if centroids else float("nan"),
+        "points_u": u,
+        "points_z": np.concatenate(zs) if us else np.zeros(0),
+        "points_p": p_all,
+        "max_deviation": float(np.concatenate(dev).max()) if us else 0.0,
+        "positions": len(data),
+        "grid_model": "zone",
+        "interior_max": float(p_all[~e_all].max()) if (~e_all).any() else 0.0,
+        "edge_max": float(p_all[e_all].max()) if e_all.any() else float("nan"),
     }

@@ -12,7 +12,12 @@ pinion frame), the legend and one colour bar (MPa) that all panels share.
 
 Colours: the pressure on a colour map; flank regions a sampled contact line reaches but
 carries no load (p < ``P_FLOOR``) are white, regions no contact line reaches (outside the
-path of contact, beyond the face width of the mate) light grey.
+path of contact, beyond the face width of the mate) light grey. Line grids show Hertz p_max
+from the line loads; zone grids the solved pressure (:func:`postprocess.flank_pattern.
+zone_flank_pattern`), whose colour scale tops at the largest interior pressure: the corner
+contact of the sharp tips and the face-end cells (edge cells,
+:func:`postprocess.mesh_stress.edge_points`), often several times higher, are drawn in the
+top colour (the colour bar's arrow) and their maximum is written above each panel.
 """
 
 from __future__ import annotations
@@ -206,8 +211,13 @@ def draw_flank(ax, pattern: FlankPattern, img: FlankImage, title: str) -> None:
         c, r = img.pixel(flank_point(fl.gear, fl.side, u0, z_left))
         ax.text(c - 6, r, label, ha="right", va="center", fontsize=8)
     if math.isfinite(pattern.centroid_z) and pattern.points_p.size:
-        txt = (f"centroid Z = {pattern.centroid_z * pattern.z_sign:+.2f} mm,  "
-               f"max {pattern.points_p.max():.0f} MPa")  # fmt: skip
+        txt = f"centroid Z = {pattern.centroid_z * pattern.z_sign:+.2f} mm,  "
+        if pattern.grid_model == "zone":
+            txt += f"interior max {pattern.interior_max:.0f} MPa"
+            if math.isfinite(pattern.edge_max):
+                txt += f", edge max {pattern.edge_max:.0f} MPa"
+        else:
+            txt += f"max {pattern.points_p.max():.0f} MPa"
     else:
         txt = "no load"
     ax.set_title(title, fontsize=9.5, loc="left")
@@ -241,8 +251,15 @@ def _case_patterns(study, positions, scenes=None) -> dict[str, list[FlankPattern
     return by_mesh
 
 
+def _zoned(by_mesh: dict[str, list[FlankPattern]]) -> bool:
+    return any(p.grid_model == "zone" for ps in by_mesh.values() for p in ps)
+
+
 def _peak(patterns) -> float:
-    vals = [np.nanmax(p.pressure) for p in patterns if np.isfinite(p.pressure).any()]
+    """Top of the colour scale: the largest pressure of the line-grid patterns, the largest
+    interior pressure of the zone-grid ones (their edge cells above it take the top colour)."""
+    vals = [p.interior_max if p.grid_model == "zone" else np.nanmax(p.pressure)
+            for p in patterns if np.isfinite(p.pressure).any()]  # fmt: skip
     return max(vals) if vals else 0.0
 
 
@@ -283,8 +300,13 @@ def _layout(rows: list[tuple[str, dict[str, list[FlankPattern]]]], out_png: Path
                               labelpad=1)  # fmt: skip
     x_cb = left + label_w + n_cols * col_w + (n_cols - 1) * gap_w + 0.25
     cax = axes(x_cb, foot + 0.1 * body_h, 0.16, 0.8 * body_h)
-    cb = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), cax=cax)
-    cb.set_label("contact pressure, Hertz p_max (MPa)", fontsize=10)
+    over = any(np.nanmax(p.pressure) > norm.vmax for p in all_patterns
+               if np.isfinite(p.pressure).any())  # fmt: skip
+    cb = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), cax=cax,
+                      extend="max" if over else "neither")  # fmt: skip
+    zone = any(p.grid_model == "zone" for p in all_patterns)
+    label = "contact pressure, solved (MPa)" if zone else "contact pressure, Hertz p_max (MPa)"
+    cb.set_label(label, fontsize=10)
     cb.ax.tick_params(labelsize=9)
     fig.legend(handles=_legend_handles(), loc="lower center", ncol=5, fontsize=8.5,
                frameon=False, bbox_to_anchor=(0.5, 0.0))  # fmt: skip
@@ -302,9 +324,10 @@ def draw_flank_patterns(study, positions: list[dict], out_dir: Path, scenes=None
     the pinion's and the mate's drive flank, maximum pressure over the solved ``positions``
     (a mesh cycle). ``scenes``: the scene of each position (rebuilt if None). Serial."""
     n = len(positions)
-    title = (f"{study.name}: contact pattern on the drive flanks, maximum Hertz pressure over "
-             f"the mesh cycle ({n} position{'s' if n != 1 else ''})")  # fmt: skip
     by_mesh = _case_patterns(study, positions, scenes)
+    what = "pressure" if _zoned(by_mesh) else "Hertz pressure"
+    title = (f"{study.name}: contact pattern on the drive flanks, maximum {what} over "
+             f"the mesh cycle ({n} position{'s' if n != 1 else ''})")  # fmt: skip
     return [_layout([(study.name, by_mesh)], Path(out_dir) / "flank_patterns.png", title)]
 
 
@@ -318,5 +341,6 @@ def draw_pattern_panel(case_runs, out_png: Path) -> Path:
         scenes = run[2] if len(run) > 2 else None
         label = f"{study.name}" + (f": {study.description}" if study.description else "")
         rows.append((label, _case_patterns(study, positions, scenes)))
-    title = "Contact patterns on the drive flanks, maximum Hertz pressure over the mesh cycle"
+    what = "pressure" if any(_zoned(by_mesh) for _, by_mesh in rows) else "Hertz pressure"
+    title = f"Contact patterns on the drive flanks, maximum {what} over the mesh cycle"
     return _layout(rows, Path(out_png), title)

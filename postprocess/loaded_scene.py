@@ -1,6 +1,11 @@
 """3D picture of a loaded scene: the gear surfaces with the contact-line loads of one solved
 mesh position drawn on the flanks (off-screen pyvista), for a person to see where the load
-sits on the face width and which tooth pairs carry it."""
+sits on the face width and which tooth pairs carry it.
+
+The loads drawn are the stations' (:func:`postprocess.train_results.mesh_stations`): one
+sphere per station at its point on the contact line, coloured by its line load. A line
+grid's stations are its points; a zone grid's are its sections (one per section and tooth
+pair, at the section's closest approach), so its many cells are not drawn one by one."""
 
 from __future__ import annotations
 
@@ -16,11 +21,12 @@ from meshing.pictures import (
     surface_polydata,
     vtk_warnings_off,
 )
+from postprocess.train_results import mesh_stations
 
 
 def loaded_scene_picture(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
     """PNG of ``scene`` (the scene ``pos`` was solved in, at level ``level``) with every
-    contact grid point of every mesh as a sphere coloured by its line load (N/mm).
+    station of every mesh as a sphere coloured by its line load (N/mm).
     Serial: call on one rank (the body meshes are already cached by the solve)."""
     with vtk_warnings_off():
         return _draw(scene, pos, level, Path(png_path), title)
@@ -32,9 +38,9 @@ def _draw(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
     pv.OFF_SCREEN = True
     msh, _ = scene_mesh_file(scene, level)
     poly, bodies = surface_polydata(Path(msh))
-    meshes = pos["meshes"].values()
-    x = np.vstack([np.asarray(m["points"]["x_mm"]) for m in meshes])
-    w = np.concatenate([np.clip(m["points"]["line_load_N_per_mm"], 0.0, None) for m in meshes])
+    stations = [mesh_stations(m) for m in pos["meshes"].values()]
+    x = np.vstack([np.asarray(st["x_mm"], float).reshape(-1, 3) for st in stations])
+    w = np.concatenate([np.clip(st["line_load_N_per_mm"], 0.0, None) for st in stations])
     cloud = pv.PolyData(x)
     cloud["line load (N/mm)"] = w
     plotter = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1800, 900))

@@ -38,6 +38,7 @@ from gears.analytic.planetary import (
     single_pinion_geometry,
 )
 from gears.units import n_m
+from solvers.flank_grid import flank_grid
 
 #: top-level scalars of a branch, per gear-set kind (means over positions in a summary)
 MEAN_KEYS = {
@@ -65,7 +66,7 @@ def with_loa_aliases(moments: dict) -> dict:
     return out
 
 
-def _single_branch(train: dict, gearset, names: list[str]) -> dict:
+def _single_branch(train: dict, gearset, names: list[str], lines=None) -> dict:
     """Section 3 quantities of one sun-pinion-ring branch (see the module docstring)."""
     sun, ring = gearset.power_path[0], gearset.power_path[-1]
     (pinion,) = names
@@ -116,7 +117,7 @@ def _single_branch(train: dict, gearset, names: list[str]) -> dict:
     return out
 
 
-def _double_branch(train: dict, gearset, names: list[str]) -> dict:
+def _double_branch(train: dict, gearset, names: list[str], lines=None) -> dict:
     """Section 5 quantities of one sun-SP-RP-ring branch (see the module docstring)."""
     sun, set_sp, set_rp, ring = gearset.power_path
     b_sp, b_rp = names  # body names of this branch's SP and RP
@@ -226,13 +227,14 @@ def _double_branch(train: dict, gearset, names: list[str]) -> dict:
     }
     face = min(gearset.gears[set_sp].face_width, gearset.gears[set_rp].face_width)
     out["sp_rp_differential"] = _sp_rp_differential(
-        train, meshes, frames, centres, pitch_points, geo, face, out, table5
+        train, meshes, frames, centres, pitch_points, geo, face, out, table5, lines
     )
     out["f_ma_SPRP_um"] = out["sp_rp_differential"]["misalignment_um"]
     return out
 
 
-def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face, out, table5):
+def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face, out, table5,
+                        lines=None):  # fmt: skip
     """The SP-RP LOA differential D = M_LOA_SP_RP + M_LOA_RP_SP split exactly over the mesh
     load centroids (singh2007 Table 5 gives 11 N m with every mesh force at its pitch point).
 
@@ -254,8 +256,9 @@ def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face,
     moves along the line of action by +s from one pinion and -s from the other).
 
     ``misalignment_um``: the relative tilt of RP against SP about u (the bearing tilts)
-    times the smaller face width; ``Z_lines_<side>``: the centroid of the contact-line grid
-    itself (what a uniform line load would give at this mesh position)."""
+    times the smaller face width; ``Z_lines_<side>``: the centroid of the theoretical contact
+    lines themselves (what a uniform line load would give at this mesh position): the mean Z
+    of ``lines[mesh]`` (:func:`contact_line_points`), without them of the grid points."""
     c1, s1 = math.cos(geo.theta - geo.a2), math.sin(geo.theta - geo.a2)
     c2, s2 = math.cos(geo.phi + geo.a2), math.sin(geo.phi + geo.a2)
     w = {"SP": np.array([-c1, -s1, 0.0]), "RP": np.array([-c2, s2, 0.0])}
@@ -275,7 +278,8 @@ def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face,
         pitch = float(n_m(np.cross(r_pitch, F) @ w[pn]))
         dz = float(n_m(np.cross([0.0, 0.0, 1.0], F) @ w[pn]))
         ds = float(n_m(np.cross(t, F) @ w[pn]))
-        z_lines = (np.asarray(M["points"]["x_mm"], float) - centres[pn]) @ Q[2]
+        x_lines = (lines or {}).get(meshes[label], M["points"]["x_mm"])
+        z_lines = (np.asarray(x_lines, float).reshape(-1, 3) - centres[pn]) @ Q[2]
         sides[f"{label}_{pn}"] = {
             "D": total, "pitch": pitch, "Z_mm": Z, "s_mm": s, "dD_dZ": dz, "dD_ds": ds,
             "from_Z": Z * dz, "from_s": s * ds, "other": total - pitch - Z * dz - s * ds,
@@ -302,6 +306,31 @@ def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face,
 _BRANCH = {"single_pinion": _single_branch, "double_pinion": _double_branch}
 
 
+def contact_line_points(train: dict, scene, spacing: float | None = None) -> dict[str, np.ndarray]:
+    """Per mesh, points (n, 3) equally spaced along the theoretical contact lines, for a
+    uniform line load's centroid: a line grid's own points (equal segments along each line);
+    for a zone grid, whose cells and sections also cover the flanks off the lines, the points
+    a line grid of point ``spacing`` (mm) would have there
+    (:func:`solvers.flank_grid.flank_grid`), without a spacing the scene's theoretical lines
+    (:attr:`meshing.mesh_zones.MeshZone.contact_lines`, equal steps in z: equal lengths
+    along lines of one helix angle; their centroid differs from a line grid's by the
+    discretisation, up to 0.1 mm at level 0)."""
+    zones = {f"{z.driver}-{z.driven}": z for z in scene.zones}
+    out = {}
+    for name, mesh in train["meshes"].items():
+        if mesh.get("grid_model", "line") == "zone":
+            zn = zones[name]
+            if spacing:
+                grid, _ = flank_grid(zn, scene.gear(zn.driver), scene.gear(zn.driven), spacing)
+                out[name] = np.asarray(grid.x_a, float)
+                continue
+            pts = [np.asarray(p, float) for *_, p in zn.contact_lines]
+            out[name] = np.vstack(pts) if pts else np.zeros((0, 3))
+        else:
+            out[name] = np.asarray(mesh["points"]["x_mm"], float).reshape(-1, 3)
+    return out
+
+
 def branch_pinions(scene, gearset) -> list[list[str]]:
     """The pinion body names of each branch of the scene, branch by branch."""
     per = len(gearset.power_path) - 2
@@ -309,14 +338,17 @@ def branch_pinions(scene, gearset) -> list[list[str]]:
     return [names[i : i + per] for i in range(0, len(names), per)]
 
 
-def paper_moments(train: dict, scene, gearset) -> dict:
+def paper_moments(train: dict, scene, gearset, spacing: float | None = None) -> dict:
     """The paper's quantities of every branch (one branch: its dict; several: the means of
     :data:`MEAN_KEYS` at the top level and ``branches``, each with its carrier angle and its
     load share: the normal force of its sun mesh over the mean of all branches (the tangential
-    force in the same ratio, the meshes being alike), and ``K_gamma``, the largest share)."""
+    force in the same ratio, the meshes being alike), and ``K_gamma``, the largest share).
+    ``spacing``: the contact grid's point spacing (mm), for the centroid of the contact
+    lines of a zone grid (:func:`contact_line_points`)."""
     branch = _BRANCH[gearset.kind]
     groups = branch_pinions(scene, gearset)
-    rows = [branch(train, gearset, names) for names in groups]
+    lines = contact_line_points(train, scene, spacing)
+    rows = [branch(train, gearset, names, lines) for names in groups]
     if len(rows) == 1:
         return rows[0]
     sun = scene.sun_name

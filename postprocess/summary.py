@@ -59,7 +59,8 @@ def position_record(study, pos: dict) -> dict:
     hz = contact_stress_at_points(study.gearset, study.material, pos)
     edges = edge_points(study.gearset, pos)
     rec = {k: pos[k] for k in MEAN_KEYS[study.gearset.kind]}
-    loaded = {m: v["p_max"][v["p_max"] > 0] for m, v in hz.items()}
+    # per station (a line grid's point, a zone grid's section): the mean of the peaks
+    loaded = {m: v["station_p_max"][v["station_p_max"] > 0] for m, v in hz.items()}
     interior = {m: v["p_max"][~edges[m]["edge"]] for m, v in hz.items()}
     rec.update(
         roll=pos["roll"],

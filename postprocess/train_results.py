@@ -10,11 +10,35 @@ pinion_frame`):
   and the bearing springs k q (``bearing_spring_moment_Nm``);
 * ``force_N``: the contact force on the pinion (= the bearing load); ``tilt_rad``.
 
-Per mesh m (a contact grid "driver-driven"): the normal force, the grid points with their
-forces and line loads, and for each pinion in the mesh the mesh force on it (+n if the pinion
-is driven, -n if it drives: n points from driver to driven), the load-centroid axial offset
-Z = sum F_k Z_k / sum F_k (mm from mid face width, Z along e_Z of that pinion) and the
-centroid vector from the pinion centre.
+Per mesh m (a contact grid "driver-driven"): the normal force, the grid points and the
+stations (:func:`grid_record`), and for each pinion in the mesh the mesh force on it,
+sum_k F_k n_k over the grid points (+ if the pinion is driven, - if it drives: n_k points
+from driver to driven; a zone grid's points carry the driver's flank normal there, turned
+off the contact line, so the force is not (sum F_k) n), the load-centroid
+axial offset Z = sum F_k Z_k / sum F_k (mm from mid face width, Z along e_Z of that pinion,
+over the grid points: the cells of a zone grid) and the centroid vector from the pinion
+centre.
+
+Grid points and stations. ``grid_model`` says what the grid is: "line" (one row of points
+on the theoretical contact lines, :func:`solvers.flank_grid.flank_grid`) or "zone" (cells
+over the whole potential contact zone, :func:`solvers.flank_grid.zone_grid`). A station is a
+segment of a contact line (a transverse section of a tooth pair for a zone grid); the line
+load lives there, q_s = sum_{k in s} F_k / L_s. Two blocks, never to be paired across:
+
+* ``points`` (one entry per grid point / cell): ``x_mm`` (on the driver's flank),
+  ``force_N``, ``area_mm2`` (w_k), ``pressure_MPa`` = F_k / w_k (the cell-average pressure;
+  for a line grid the load spread over its patch, not a contact pressure), ``station`` (the
+  station index of the point); a line grid, whose points are its stations, also keeps
+  ``line_load_N_per_mm`` here (= ``stations`` entry of the same index), so every reader of
+  line grids works unchanged; a zone grid has no per-point line load;
+* ``stations`` (one entry per station): ``x_mm`` (the station's point on the contact line:
+  the line grid's point, the zone grid's coarse point, where the section is closest),
+  ``length_mm`` L_s, ``force_N`` sum F_k, ``line_load_N_per_mm`` q_s, ``peak_pressure_MPa``
+  (largest F_k / w_k of the station), ``line`` (index of its tooth pair in
+  ``grid_lines[mesh]`` of the position).
+
+:func:`mesh_stations` reads the stations of a mesh record, also of a record written before
+this layout (line grids: one station per point, ``line`` unknown).
 
 Coast flanks (``coast``, per mesh "driver-driven", from its grid "driver-driven/coast"; kept
 apart so that no drive-flank number or key changes): the normal force and active points on
@@ -34,7 +58,7 @@ import numpy as np
 from gears.units import n_m
 from solvers.flank_grid import is_coast, mesh_name
 from solvers.gear_train import BEARING_DOFS
-from solvers.results import contact_resultant, line_load, residual_resultant
+from solvers.results import contact_resultant, residual_resultant
 
 
 def body_resultants(problem, result) -> tuple[dict, float]:
@@ -78,11 +102,69 @@ def _pinion(model, result, name: str, res) -> dict:
     }
 
 
-def _mesh(model, result, index: int, zone) -> dict:
+def grid_record(pair, lines: list[dict], F: np.ndarray) -> dict:
+    """``grid_model``, ``points`` and ``stations`` of one solved contact pair (module
+    docstring). ``lines``: the :class:`solvers.flank_grid.FlankGridInfo` lines of the grid
+    (``rows`` [first, last + 1) of each tooth pair's points)."""
+    g = pair.grid
+    F = np.asarray(F, float)
+    w = np.asarray(g.weights, float)
+    zone = pair.link is not None
+    if g.stations is None:
+        raise ValueError(f"grid '{g.name}': no stations, no line load (a 3D flank grid has them)")
+    st = np.asarray(g.stations, int)
+    n_st = len(g.station_length)
+    if zone:
+        x_st = np.asarray(pair.link.coarse.x_a, float)
+    elif n_st == g.n and np.array_equal(st, np.arange(g.n)):
+        x_st = np.asarray(g.x_a, float)  # a line grid: its points are its stations
+    else:
+        raise ValueError(f"grid '{g.name}': a line grid must have one station per point")
+    if len(x_st) != n_st:
+        raise ValueError(f"grid '{g.name}': {len(x_st)} station points for {n_st} stations")
+    L = np.asarray(g.station_length, float)
+    f_st = np.zeros(n_st)
+    np.add.at(f_st, st, F)
+    p = F / w
+    peak = np.zeros(n_st)
+    np.maximum.at(peak, st, p)
+    line = np.full(n_st, -1)
+    for j, ln in enumerate(lines):
+        a, b = ln["rows"]
+        line[st[a:b]] = j
+    points = {"x_mm": g.x_a.tolist(), "force_N": F.tolist(), "area_mm2": w.tolist(),
+              "pressure_MPa": p.tolist(), "station": st.tolist()}  # fmt: skip
+    q = f_st / L
+    if not zone:
+        points["line_load_N_per_mm"] = q.tolist()
+    stations = {"x_mm": x_st.tolist(), "length_mm": L.tolist(), "force_N": f_st.tolist(),
+                "line_load_N_per_mm": q.tolist(), "peak_pressure_MPa": peak.tolist(),
+                "line": line.tolist()}  # fmt: skip
+    return {"grid_model": "zone" if zone else "line", "grid_points": g.n,
+            "grid_stations": n_st, "points": points, "stations": stations}  # fmt: skip
+
+
+def mesh_stations(mesh: dict) -> dict:
+    """The ``stations`` block of a mesh (or coast) record; for a record without one (written
+    before the stations were kept; line grids only) one station per point, from its points:
+    ``x_mm``, ``line_load_N_per_mm`` (if the points have it), ``line`` -1 (unknown)."""
+    if "stations" in mesh:
+        return mesh["stations"]
+    if mesh.get("grid_model", "line") != "line":
+        name = f"{mesh.get('driver')}-{mesh.get('driven')}"
+        raise KeyError(f"mesh {name}: a zone grid record without its stations")
+    pts = mesh["points"]
+    out = {"x_mm": pts["x_mm"], "line": [-1] * len(pts["x_mm"])}
+    if "line_load_N_per_mm" in pts:
+        out["line_load_N_per_mm"] = pts["line_load_N_per_mm"]
+    return out
+
+
+def _mesh(model, result, index: int, zone, lines: list[dict]) -> dict:
     p = model.problem
     sl = slice(p.offsets[index], p.offsets[index + 1])
     F = result.forces[sl]
-    g = model.grids[p.pairs[index].grid.name][0]
+    g = p.pairs[index].grid
     tot = float(F.sum())
     out = {
         "driver": zone.driver,
@@ -90,13 +172,9 @@ def _mesh(model, result, index: int, zone) -> dict:
         "gears": [model.scene.gear(zone.driver).gear_name, model.scene.gear(zone.driven).gear_name],
         "normal_force_N": tot,
         "active_points": int(np.count_nonzero(F > 0)),
-        "grid_points": g.n,
-        "normal": np.asarray(g.normals[0], float).tolist(),  # driver -> driven, scene frame
-        "points": {
-            "x_mm": g.x_a.tolist(),
-            "force_N": F.tolist(),
-            "line_load_N_per_mm": line_load(p, result, index).tolist(),
-        },
+        # the plane of action's normal (driver -> driven, scene frame; ContactGrid.nominal_normal)
+        "normal": np.asarray(g.nominal_normal, float).tolist(),
+        **grid_record(p.pairs[index], lines, F),
         "on": {},
     }
     for pn, sgn in ((zone.driver, -1.0), (zone.driven, +1.0)):
@@ -106,37 +184,34 @@ def _mesh(model, result, index: int, zone) -> dict:
         rel = g.x_a - model.centres[pn]
         Z = rel @ Q[2]
         out["on"][pn] = {
-            "force_N": (sgn * tot * (Q @ g.normals[0])).tolist(),
+            "force_N": (sgn * (Q @ (F @ np.asarray(g.normals, float)))).tolist(),  # sum F_k n_k
             "Z_mm": float((F * Z).sum() / tot) if tot > 0 else float("nan"),
             "centroid_mm": ((F @ rel) / tot).tolist() if tot > 0 else None,
         }
     return out
 
 
-def _coast(model, result, index: int, zone) -> dict:
+def _coast(model, result, index: int, zone, lines: list[dict]) -> dict:
     """The coast-flank grid of a mesh after the solve (see the module docstring)."""
     p = model.problem
     sl = slice(p.offsets[index], p.offsets[index + 1])
     F = result.forces[sl]
     gap = np.asarray(result.gaps[sl], float)
     g = p.pairs[index].grid
-    return {
+    out = {
         "driver": zone.driver,
         "driven": zone.driven,
         "normal_force_N": float(F.sum()),
         "active_points": int(np.count_nonzero(F > 0)),
-        "grid_points": g.n,
         "loaded": bool(np.any(F > 0)),
         "initial_gap_min_mm": float(np.min(g.gap0)),
         "min_gap_mm": float(gap.min()),
-        "normal": np.asarray(g.normals[0], float).tolist(),  # out of the driver's coast flank
-        "points": {
-            "x_mm": g.x_a.tolist(),
-            "force_N": F.tolist(),
-            "gap_mm": gap.tolist(),
-            "line_load_N_per_mm": line_load(p, result, index).tolist(),
-        },
+        "normal": np.asarray(g.nominal_normal, float).tolist(),  # out of the driver's coast flank
     }
+    rec = grid_record(p.pairs[index], lines, F)
+    rec["points"]["gap_mm"] = gap.tolist()
+    out.update(rec)
+    return out
 
 
 def coast_summary(positions: list[dict]) -> dict | None:
@@ -193,9 +268,10 @@ def train_results(model, result) -> dict:
     for i, pair in enumerate(p.pairs):
         name = pair.grid.name
         if is_coast(name):
-            coast[mesh_name(name)] = _coast(model, result, i, zones[mesh_name(name)])
+            lines = model.coast_grids[mesh_name(name)][1].lines
+            coast[mesh_name(name)] = _coast(model, result, i, zones[mesh_name(name)], lines)
         else:
-            meshes[name] = _mesh(model, result, i, zones[name])
+            meshes[name] = _mesh(model, result, i, zones[name], model.grids[name][1].lines)
     out = {
         "pinions": {pn: _pinion(model, result, pn, res) for pn in model.pinions},
         "meshes": meshes,

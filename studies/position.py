@@ -80,7 +80,7 @@ def solve_position(
     t_solve = time.perf_counter()
     _stage(progress, "post")
     train = train_results(model, result)
-    out = {**train, **paper_moments(train, scene, study.gearset)}
+    out = {**train, **paper_moments(train, scene, study.gearset, spacing)}
     out["bending_stress"] = root_stress(model, result)
     out.update(
         case=study.name,
@@ -101,6 +101,8 @@ def solve_position(
             "wall": time.perf_counter() - t0,
         },
     )
+    # per drive grid its tooth pairs (rows [first, last + 1) of their grid points: a zone
+    # grid's cells; each station's pair is in the mesh's stations["line"])
     out["grid_lines"] = {k: v[1].lines for k, v in model.grids.items()}
     out["g0_max_abs_mm"] = float(max(np.abs(v[0].gap0).max() for v in model.grids.values()))
     if keep_fields:

@@ -6,7 +6,9 @@
     mpiexec -n 2 python -m studies.run 1-GA
 
 A case is a study-case file (``cases/<name>.toml`` or any path): a gear set, the pinion
-bearing, the material, the scene (``model.scene``) and the numerical settings. It is solved
+bearing, the material, the scene (``model.scene``) and the numerical settings (the contact
+model among them, ``numerics.contact_model``: line or zone grids, recorded in the summary's
+``inputs``; :mod:`postprocess.train_results` says how each is reported). It is solved
 at N mesh positions over one base pitch of the sun: sun angles k (2 pi / Z_sun) / N, k = 0..
 N-1, with the carrier fixed (:func:`studies.position.solve_position`). The bodies are
 factorized once and reused by every position and every case of the command line that shares
@@ -197,14 +199,6 @@ def run_study(
         if scene not in SCENES:
             raise InputError(f"scene = {scene!r}: must be one of {', '.join(SCENES)}")
         study = dataclasses.replace(study, model=dataclasses.replace(study.model, scene=scene))
-    if study.numerics.contact_model != "line":
-        # the zone grid's points carry 2D patches; the line loads, contact stresses and
-        # patterns of a study read line grids (issue 11): until they read patches, the zone
-        # model runs only in studies.bench_contact, never silently as a line grid here
-        raise InputError(
-            f"{study.name}: numerics.contact_model = {study.numerics.contact_model!r}: the "
-            "study driver supports 'line' only for now ('zone' runs in make bench-contact)"
-        )
     store = BodyStore() if store is None else store
     level, n_pos = _checked_settings(study, level, positions)
     out = _output_folder(study, out_root)

@@ -213,15 +213,27 @@ def test_misspelt_key_refused_by_the_driver(stub, tmp_path, capsys):
     assert stub.rolls == []
 
 
-def test_zone_contact_model_refused_not_run_as_line(stub, tmp_path, capsys):
-    """A case asking for the zone contact model must not run silently on line grids: the
-    driver's post-processing reads line grids only (issue 11)."""
+def test_zone_contact_model_runs_and_is_recorded(stub, tmp_path, capsys):
+    """The zone contact model runs in the driver like the line model (its post-processing
+    reads zone grids, tests/test_zone_study.py solves one), and the summary records which
+    model produced it (its inputs)."""
     text = Path(load_study_case("1-GA").path).read_text()
     assert "[numerics]" in text
     zone = tmp_path / "1-GA.toml"
     zone.write_text(text.replace("[numerics]", '[numerics]\ncontact_model = "zone"'))
-    assert cli(tmp_path, zone) == 2
-    assert "numerics.contact_model = 'zone'" in one_error_line(capsys.readouterr().err)
+    assert cli(tmp_path, zone, "--positions", N_POS) == 0
+    assert len(stub.rolls) == N_POS
+    summary = json.loads((tmp_path / "out" / "1-GA" / "summary.json").read_text())
+    assert summary["inputs"]["study_case"]["numerics"]["contact_model"] == "zone"
+
+
+def test_unknown_contact_model_refused(stub, tmp_path, capsys):
+    """A contact model the solver does not have is invalid input naming the field."""
+    text = Path(load_study_case("1-GA").path).read_text()
+    bad = tmp_path / "1-GA.toml"
+    bad.write_text(text.replace("[numerics]", '[numerics]\ncontact_model = "patch"'))
+    assert cli(tmp_path, bad) == 2
+    assert "numerics.contact_model = 'patch'" in one_error_line(capsys.readouterr().err)
     assert stub.rolls == []
 
 
