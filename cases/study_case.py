@@ -88,15 +88,16 @@ class Numerics:
     optional). The defaults below are the only definition; validated on construction."""
 
     degree: int = 1  # Lagrange element degree of the displacement, one of DEGREES
-    # Contact penalty relative to the body stiffness (eps = factor E* / h), PENALTY_FACTOR_RANGE.
+    # Contact penalty relative to the body stiffness (eps = factor E* / h), PENALTY_FACTOR_RANGE;
+    # used by the "line" contact model (the "zone" model's contact is exact: no penalty).
     penalty_factor: float = 100.0
     # Contact grid point spacing along the contact line, mm, in GRID_SPACING_RANGE;
     # None: the flank element size of the mesh level.
     grid_spacing: float | None = None
     # Contact model, one of CONTACT_MODELS: "line" (one row of points on the theoretical
     # contact lines, a penalty spring each, every point one FE column) or "zone" (a grid over
-    # the whole potential contact zone of the drive flanks, the FE compliance on one point
-    # per section, the local compliance from Boussinesq half-space coefficients, exact
+    # the whole potential contact zone of the drive and coast flanks, the FE compliance on one
+    # point per section, the local compliance from Boussinesq half-space coefficients, exact
     # contact; solvers.flank_grid.zone_grid, solvers.contact eq. (5)).
     contact_model: str = "line"
     # "zone": grid points are laid where the unloaded separation (modifications included) is

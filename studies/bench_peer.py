@@ -56,6 +56,7 @@ from meshing.scene_bodies import load_body_meshes
 from meshing.scenes import build_scene
 from postprocess import peer_ccx as P
 from postprocess.mesh_stress import contact_stress_at_points
+from postprocess.train_results import mesh_stations
 from solvers import root_stress as RS
 from solvers.elastic_body import Material
 from solvers.gear_train import bearing_stiffness, pinion_frame, sun_torque
@@ -110,7 +111,7 @@ def ours(case: str, level: int, roll: float, path: Path) -> None:
         },
         peak_hertz_MPa=float(max(v["p_max"].max() for v in hz.values())),
         peak_line_load_N_per_mm=float(
-            max(max(m["points"]["line_load_N_per_mm"]) for m in pos["meshes"].values())
+            max(max(mesh_stations(m)["line_load_N_per_mm"]) for m in pos["meshes"].values())
         ),
         pinion_force_N=pos["pinions"][pname]["force_N"],
         tilt_rad=pos["pinions"][pname]["tilt_rad"],

@@ -401,6 +401,7 @@ def test_study_inputs_are_json_with_resolved_data():
     assert sc["numerics"] == {
         "degree": 1, "penalty_factor": 100.0, "grid_spacing": None,
         "contact_model": "line", "zone_gap_limit_um": 40.0,
+        "linear_solver": "mumps", "linear_tolerance": None,
     }  # fmt: skip
     assert sc["material"] == {
         "youngs_modulus": 206e3,
