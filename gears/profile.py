@@ -151,6 +151,38 @@ def involute_deviation(gear: GearSpec, xyz, side: str) -> np.ndarray:
     return gear.base_radius * math.cos(gear.base_helix_angle) * (s * theta - gear.half_angle(rho))
 
 
+def involute_normal(gear: GearSpec, xyz, side: str) -> np.ndarray:
+    """Unit normal (..., 3), out of the material, of the exact involute helicoid of the
+    nearest tooth's ``side`` flank through the parallel surface at points xyz (gear frame):
+    the gradient of :func:`involute_deviation`'s d = C (s theta_u - psi(rho)), C = r_b
+    cos(beta_b), theta_u = atan2(y, x) - k z (k = d(helix_rotation)/dz), and with
+    d psi / d rho = -sigma tan(alpha) / rho (d inv(alpha(rho)) / d rho = tan(alpha) / rho,
+    cos(alpha) = r_b / rho):
+
+        grad d = C ( s (-y, x) / rho^2 + sigma tan(alpha) (x, y) / rho^2,  -s k ).
+
+    Its transverse part has length C / (rho cos(alpha)) = cos(beta_b), its axial one
+    |k| r_b cos(beta_b) = sin(beta_b): unit. d is an exact distance (see
+    :func:`involute_deviation`), so this is also the flank's normal at the point's foot on
+    the flank (the nearest flank point), for rho >= r_b."""
+    s = _side_sign(side)
+    p = np.asarray(xyz, dtype=float)
+    x, y = p[..., 0], p[..., 1]
+    rho2 = x * x + y * y
+    rb = gear.base_radius
+    if np.any(rho2 < (rb * (1.0 - 1e-12)) ** 2):
+        raise GeometryError(f"{gear.name}: points inside the base circle have no involute normal")
+    tan_a = np.sqrt(np.maximum(rho2 - rb * rb, 0.0)) / rb
+    c = rb * math.cos(gear.base_helix_angle)
+    k = float(gear.helix_rotation(1.0)) - float(gear.helix_rotation(0.0))
+    sig = gear.sigma * tan_a
+    out = np.stack(
+        [c * (-s * y + sig * x) / rho2, c * (s * x + sig * y) / rho2, np.full(x.shape, -c * s * k)],
+        axis=-1,
+    )
+    return out / np.linalg.norm(out, axis=-1, keepdims=True)
+
+
 def fillet_deviation(gear: GearSpec, xyz, side: str, n_samples: int = 2000) -> np.ndarray:
     """Signed normal distance (mm, + outside the material) of points xyz (..., 3) from the
     root surface on the ``side`` of the nearest tooth: its generated fillet and the half root

@@ -65,9 +65,11 @@ separation is within ``[numerics] zone_gap_limit_um`` of its reference: 0 on the
 flanks, the section's smallest coast separation on the coast flanks (the backlash, plus
 modifications; :func:`flank_contact_pairs` says why). Its FE compliance comes from one
 coarse point per section and its near field from the half-space (eq. (5) of
-:mod:`solvers.contact`). Each zone point carries the driver's exact flank normal n_q at the
-point (n on the contact line, turned about the axis off it); every grid keeps the plane of
-action's n as its ``nominal_normal``, and the force a grid transmits is sum_k F_k n_k.
+:mod:`solvers.contact`). Each zone point carries its own contact normal (n on the contact
+line; off it the driven flank's normal where the driver's tip corner touches, the driver's
+where the driven tip does, the bisector of the two elsewhere: :func:`contact_normals`);
+every grid keeps the plane of action's n as its ``nominal_normal``, and the force a grid
+transmits is sum_k F_k n_k.
 """
 
 from __future__ import annotations
@@ -81,7 +83,7 @@ from numbers import Real
 import numpy as np
 
 from gears.microgeometry import flank_modification
-from gears.profile import involute_deviation
+from gears.profile import involute_deviation, involute_normal
 from meshing.mesh_zones import coast_zone, flank_of
 from solvers.contact import ContactPair
 from solvers.contact_grid import ContactGrid, ZoneLink
@@ -102,6 +104,7 @@ class FlankGridInfo:
     mod_b: np.ndarray | None = None  # the same for the driven gear
     flanks: str = "drive"  # "drive" or "coast"
     fallback: str | None = None  # why a coast view got its line grid under the zone model
+    corner: np.ndarray | None = None  # zone grids: per point CORNER_A / CORNER_B bit flags
 
 
 def _helix_rate(gear) -> float:
@@ -243,6 +246,8 @@ ZONE_GROWTH = 1.3
 ZONE_SAMPLES = 400
 #: fixed-point steps (at most) and step size (mm) at which the ray to the driven flank stops
 RAY_STEPS, RAY_TOL = 20, 1e-13
+#: zone cells whose patch reaches a tip circle (bit flags): the driver's, the driven gear's
+CORNER_A, CORNER_B = 1, 2
 
 
 def _rotate(xy: np.ndarray, c: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -299,6 +304,39 @@ def _cells(v_c: float, d0: float, dmax: float, lo: float, hi: float) -> np.ndarr
     return np.unique(e)
 
 
+def contact_normals(dvn, driven_side: str, x: np.ndarray, n_a: np.ndarray, corner) -> np.ndarray:
+    """The contact normal n_k of zone cells at driver flank points x (scene frame), from the
+    driver's flank normal n_a there (out of the driver) and the driven flank's n_b: minus
+    the driven gear's outward flank normal (:func:`gears.profile.involute_normal`) at x,
+    which is its normal at x's nearest point on the driven flank (the distance is exact),
+    so n_b, like n_a, points from the driver to the driven gear. Per cell (``corner``, bit
+    flags of :func:`zone_grid`):
+
+        CORNER_A (the cell reaches the driver's tip circle):    n_k = n_b
+        CORNER_B (it reaches the driven gear's tip circle):     n_k = n_a
+        otherwise (both flanks smooth; or both tips):         n_k = (cos(beta_b) u, n_z),
+                                       u = (n_a,xy + n_b,xy) / |n_a,xy + n_b,xy|,
+
+    the last the bisector of the two normals on their common cone: both flanks are
+    helicoids of the base helix angle beta_b, every normal of either has the axial part
+    n_z of the plane of action's n (asserted to 1e-12), so the half turn about the axis
+    from n_a to n_b keeps n_z (the plain normalised sum n_a + n_b differs from it by
+    O(theta^2), theta the angle between them)."""
+    g = dvn.gear
+    c, sn = math.cos(dvn.placement.angle), math.sin(dvn.placement.angle)
+    loc = involute_normal(g, dvn.placement.inverse(x), driven_side)
+    n_b = -np.c_[c * loc[:, 0] - sn * loc[:, 1], sn * loc[:, 0] + c * loc[:, 1], loc[:, 2]]
+    if np.abs(n_b[:, 2] - n_a[:, 2]).max(initial=0.0) > 1e-12:
+        raise RuntimeError("zone grid: the two flanks' normals differ in their axial part")
+    u = n_a[:, :2] + n_b[:, :2]
+    u *= (np.hypot(n_a[:, 0], n_a[:, 1]) / np.hypot(u[:, 0], u[:, 1]))[:, None]
+    out = np.c_[u, n_a[:, 2]]
+    corner = np.asarray(corner)
+    out[corner == CORNER_A] = n_b[corner == CORNER_A]
+    out[corner == CORNER_B] = n_a[corner == CORNER_B]
+    return out
+
+
 def zone_grid(
     zone,
     drv,
@@ -329,22 +367,45 @@ def zone_grid(
     where q lies between the driven gear's form and tip circles (margins as in
     :func:`flank_grid`).
 
-    Normals. Every grid point carries its own n_q, the driver's exact flank normal (out of
-    the driver, towards the driven gear): the gap, the gap operator's rows, the rigid
-    columns and the force F_k n_k all act along it. Off the line n_q turns by the roll
-    difference, about v / rho_a (v the profile distance from the line), up to ~10 deg at the
-    band's edge (~0.7 mm at the 40 um limit), where a tilted pinion's face-end load sits;
-    the plane of action's n there (the earlier choice) moved 1-GC My_pin (level 0, roll 0)
-    by 3 % (108.4 against 105.1 N m with n_q). With n_q the moment of F_k n_k about the
-    driver's axis has the exact arm r_b cos(beta_b) at every point. n_z is the same at every
-    point (the turn is about the axis): |n_q,xy| = cos(beta_b). The mesh force is
-    sum_k F_k n_k; the plane of action's n is kept as the grid's ``nominal_normal``
-    (:class:`solvers.contact_grid.ContactGrid`), the direction readers project on.
-    Open: off the line the driven flank's normal at x_b differs from n_q by about v / R
-    (R the relative radius of curvature), so the arm of F_k n_k about the driven gear's axis
-    is not exactly its r_b cos(beta_b) (an overturned 1-GC pinion: 2.8 deg force-weighted at
-    the sun mesh, its arm about the pinion axis 2.0 % short); the drive and coast forces of
-    a mesh still balance both gears exactly, as every point force acts on one line.
+    Normals. Every grid point carries its own contact normal n_k (driver -> driven): the
+    gap, the gap operator's rows, the rigid columns and the force F_k n_k all act along it
+    (:func:`contact_normals`). On the contact line the two flank normals coincide (n, the
+    plane of action's); off it the driver's n_q turns by about v / rho_a and the driven
+    flank's n_b (at the nearest driven flank point) by about -v / rho_b (v the profile
+    distance from the line), so they differ by about v / R (R the relative radius of
+    curvature): several degrees at the band's edge (~0.7 mm at the 40 um limit), where a
+    tilted pinion's face-end load sits. The rule, from the mechanics of the contact there:
+
+    * a cell whose patch reaches the driver's tip circle (``CORNER_A``): the driver touches
+      with its tip corner, which has no normal, the driven flank is smooth there: the
+      traction of an edge on a smooth face acts along the face's normal, n_k = n_b;
+    * a cell reaching the driven gear's tip circle (``CORNER_B``): likewise n_k = n_q;
+    * elsewhere both flanks are smooth and nearly conformal (angle theta ~ v / R between
+      them): under load they deform into one interface whose normal lies between the two;
+      for equal elastic half-spaces (same material, Hertz: both surfaces displace equally
+      and oppositely) it is turned half-way, n_k = the bisector of n_q and n_b on their
+      common cone (equal n_z, the half turn about the axis: :func:`contact_normals`); with
+      unequal moduli the interface would turn towards the stiffer body's normal (not
+      modelled: the bisector is kept for every pair).
+
+    The gap is the distance from q along n_k to the driven flank (the fixed-point steps of
+    ``separation``); at a driver tip corner it is exactly dev_B (q's distance from the
+    driven flank). Every point force acts on one line through x_a and x_b, so the forces of
+    a mesh balance both gears exactly; but off the line the arm of F_k n_k about a gear's
+    axis is not exactly its r_b cos(beta_b) (that holds only along that gear's own flank
+    normal): with the bisector the driver's and the driven gear's arms are each off by about
+    theta / 2 times rho / r_b. The mesh force is sum_k F_k n_k; the plane of action's n is
+    kept as the grid's ``nominal_normal`` (:class:`solvers.contact_grid.ContactGrid`), the
+    direction readers project on.
+
+    Measured (``studies.bench_contact``, level 0, roll 0; driver normal n_q everywhere /
+    the bisector everywhere / this rule): 1-GA My_pin 259.69 / 259.72 / 259.66 N m,
+    M_LOA_sun 104.95 / 105.13 / 105.08, M_LOA_ring -93.48 / -93.33 / -93.33 (< 0.2 %, the
+    load sits on the line); 1-GC (soft bearing, overturned pinion, tip corners loaded)
+    My_pin 105.00 / 107.60 / 106.31 N m, M_LOA_sun 46.84 / 47.91 / 47.53, M_LOA_ring
+    -33.47 / -34.38 / -33.78 N m, coast force 1348 / 1878 / 1746 N. The choice of normal
+    is thus a model uncertainty of about +-1.2 % on 1-GC's moments (the rule sits between
+    the two single-flank choices), and 1-GA does not see it.
 
     Grid. Per tooth pair within reach (every driver tooth whose roll t(z) lies within one
     base pitch of the contact window somewhere on the face, so at least one pair beyond the
@@ -472,20 +533,25 @@ def zone_grid(
         g = np.full(len(q), np.inf)
         dev_a, dev_b, _, _, mic = separation(q[okf], nq_s[okf])
         g[okf] = dev_a + dev_b + mic
-        sampled.append((j_a, tz, okf.reshape(m_z, ZONE_SAMPLES), g.reshape(m_z, ZONE_SAMPLES)))
+        sampled.append(
+            (j_a, tz, okf.reshape(m_z, ZONE_SAMPLES), g.reshape(m_z, ZONE_SAMPLES),
+             rad_b.reshape(m_z, ZONE_SAMPLES))
+        )  # fmt: skip
     # the reference each cell's g0 is held against: 0 (absolute), or per section the smallest
     # g0 over every tooth pair in reach (relative; inf where no pair has flank there)
     g_ref = np.zeros(m_z)
     if relative:
-        g_ref = np.min([np.where(ok, g, np.inf).min(axis=1) for _, _, ok, g in sampled]
+        g_ref = np.min([np.where(ok, g, np.inf).min(axis=1) for _, _, ok, g, _ in sampled]
                        or [np.full(m_z, np.inf)], axis=0)  # fmt: skip
     limit = g_ref + gap_limit
     # pass 2: cells of each section where g0 < limit
-    fine: dict[str, list] = {key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp")}
+    fine: dict[str, list] = {
+        key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp", "corner")
+    }
     coarse: dict[str, list] = {key: [] for key in ("z", "t", "tz", "v", "grp")}
     lines = []
     n_fine = 0
-    for j_a, tz, ok, g in sampled:
+    for j_a, tz, ok, g, rad in sampled:
         v = 0.5 * rb * (t_s[None, :] ** 2 - tz[:, None] ** 2)
         grp = len(lines)
         first = n_fine
@@ -508,6 +574,15 @@ def zone_grid(
             d0 = float(np.clip(DESIGN_CONTACT_STRESS / (e_star * curv), 0.01, dmax))
             edges = _cells(v_c, d0, dmax, vi.min(), vi.max())
             vc = 0.5 * (edges[1:] + edges[:-1])
+            # which tip corner the section's first and last cells reach (their patch ends
+            # on the section's end, the last sample where both flanks exist)
+            corner = np.zeros(len(vc), dtype=int)
+            idx = np.flatnonzero(ok[i])
+            for end, j in ((0, idx[0]), (-1, idx[-1])):
+                if j == ZONE_SAMPLES - 1:
+                    corner[end] |= CORNER_A  # ends on the driver's tip circle
+                elif j > 0 and abs(rad[i, j] - gb.tip_radius) < abs(rad[i, j] - gb.form_radius):
+                    corner[end] |= CORNER_B  # ends on the driven gear's tip circle
             dv = np.diff(edges)
             gc = np.interp(vc, vi, g[i, ok[i]])
             keep = (gc < limit[i]) & (dv > 0.05 * d0)
@@ -527,6 +602,7 @@ def zone_grid(
             fine["v"].append(vc[keep])
             fine["sec"].append(np.full(m, sec))
             fine["grp"].append(np.full(m, grp))
+            fine["corner"].append(corner[keep])
             n_fine += m
             z_used.append(zc[i])
         if n_fine == first:
@@ -546,7 +622,8 @@ def zone_grid(
         raise ValueError(f"zone {zone.name}: no flank point within {gap_limit * 1e3:g} um{of}")
     F = {key: np.concatenate(val) for key, val in fine.items()}
     x, nq, tl, tt = flank_points(F["z"], F["t"], F["tz"])  # n_q: the flank normal per point
-    dev_a, dev_b, mod_a, mod_b, mic = separation(x, nq)
+    nk = contact_normals(dvn, zone.driven_side, x, nq, F["corner"])
+    dev_a, dev_b, mod_a, mod_b, mic = separation(x, nk)
     m = len(x)
     C = {key: np.asarray(val) for key, val in coarse.items()}
     xc, nc, tlc, ttc = flank_points(C["z"], C["t"], C["tz"])
@@ -579,8 +656,8 @@ def zone_grid(
     grid = ContactGrid(
         zone.name,
         x,
-        x + dev_b[:, None] * nq,
-        nq,
+        x + dev_b[:, None] * nk,
+        nk,
         dev_a + dev_b + mic,
         seg * F["dv"],
         tangents=np.stack([tl, tt], axis=1),
@@ -602,7 +679,8 @@ def zone_grid(
         depth_a,
         depth_b,
     )
-    info = FlankGridInfo(lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks)
+    info = FlankGridInfo(lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks,
+                         corner=F["corner"].astype(int))  # fmt: skip
     return grid, info, link
 
 

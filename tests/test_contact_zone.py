@@ -20,6 +20,8 @@ from gears.microgeometry import FlankModifications
 from gears.profile import involute_deviation
 from meshing import mesh_zones, scenes
 from solvers.flank_grid import (
+    CORNER_A,
+    CORNER_B,
     DESIGN_CONTACT_STRESS,
     flank_contact_pairs,
     flank_grid,
@@ -41,7 +43,7 @@ def scene():
 
 # ------------------------------------------------------------------ numerics switch
 def test_contact_model_defaults_and_validation():
-    assert (DEFAULTS.contact_model, DEFAULTS.zone_gap_limit_um) == ("line", 40.0)
+    assert (DEFAULTS.contact_model, DEFAULTS.zone_gap_limit_um) == ("zone", 40.0)
     assert Numerics(contact_model="zone", zone_gap_limit_um=25).zone_gap_limit_um == 25.0
     with pytest.raises(CaseError, match=r"numerics\.contact_model = 'hertz': must be one of "
                                         r"'line', 'zone'"):  # fmt: skip
@@ -107,36 +109,77 @@ def _flank_normal(pg, side, x, e=1e-3):
     return out
 
 
+def _on_cone_bisector(n_a, n_b):
+    """The half turn about the axis from n_a to n_b (equal axial parts): the rule's bisector."""
+    u = n_a[:, :2] + n_b[:, :2]
+    u *= (np.hypot(n_a[:, 0], n_a[:, 1]) / np.hypot(u[:, 0], u[:, 1]))[:, None]
+    return np.c_[u, n_a[:, 2]]
+
+
+def test_involute_normal_is_the_gradient_of_the_exact_distance(scene):
+    """gears.profile.involute_normal (analytic gradient) against the difference stencil of
+    involute_deviation, on every flank of a zone (external sun/pinion and the internal
+    ring), at points on and 0.05 mm off the flank: 1e-9 (the stencil's error ~1e-11)."""
+    from gears.profile import involute_normal
+
+    for zn in scene.zones:
+        for name, side in ((zn.driver, zn.driver_side), (zn.driven, zn.driven_side)):
+            pg = scene.gear(name)
+            line, _ = flank_grid(zn, scene.gear(zn.driver), scene.gear(zn.driven), 0.7)
+            for off in (0.0, 0.05):
+                x = line.x_a + off * line.normals
+                loc = involute_normal(pg.gear, pg.placement.inverse(x), side)
+                c, s = math.cos(pg.placement.angle), math.sin(pg.placement.angle)
+                glob = np.c_[c * loc[:, 0] - s * loc[:, 1], s * loc[:, 0] + c * loc[:, 1],
+                             loc[:, 2]]  # fmt: skip
+                assert np.abs(glob - _flank_normal(pg, side, x)).max() < 1e-9
+
+
 @pytest.mark.parametrize("zi", [0, 1])
 @pytest.mark.parametrize("flanks", ["drive", "coast"])
-def test_zone_grid_normals_are_the_exact_flank_normals(scene, zi, flanks):
-    """Every zone point (and coarse point) carries the driver's exact flank normal there,
-    out of the driver: the gradient of its exact normal distance, to 1e-9 (the difference
-    stencil's error is ~1e-11, see _flank_normal). Off the contact line it is turned about
-    the axis from the plane of action's normal n (up to 4.4 deg at the sun mesh, 7.8 deg at
-    the ring mesh, measured), which the grid keeps as its nominal normal: the line grid's."""
+def test_zone_grid_normals_follow_the_corner_rule(scene, zi, flanks):
+    """The contact normal of every zone cell (solvers.flank_grid.contact_normals): where the
+    cell reaches the driver's tip circle the driven flank's exact normal (a tip corner on a
+    smooth flank), where it reaches the driven tip the driver's, elsewhere the bisector of
+    the two on their common cone; each flank normal is the gradient of its exact normal
+    distance (involute_deviation), so the rule holds to 1e-9 (the stencil's error ~1e-11,
+    see _flank_normal). The coarse points keep the driver's normal. Off the contact line
+    the two flank normals differ by several degrees (a grid with one normal throughout,
+    or with the wrong flank's at a corner, would fail)."""
     zn = scene.zones[zi]
     drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
     view = zn if flanks == "drive" else mesh_zones.coast_zone(zn, drv, dvn)
-    grid, _, link = zone_grid(view, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES,
-                              relative=flanks == "coast")  # fmt: skip
+    grid, info, link = zone_grid(view, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES,
+                                 relative=flanks == "coast")  # fmt: skip
     line, _ = flank_grid(view, drv, dvn, 0.7)
-    for g in (grid, link.coarse):
-        assert np.abs(_flank_normal(drv, view.driver_side, g.x_a) - g.normals).max() < 1e-9
-        # the gap is measured along it: x_b = x_a + dev_B n_k, g0 = dev_A + dev_B (no
-        # modifications here), dev_A ~1e-14 mm (x_a on the driver flank)
+    n_a = _flank_normal(drv, view.driver_side, grid.x_a)
+    n_b = -_flank_normal(dvn, view.driven_side, grid.x_a)  # out of the driven flank, negated
+    tip_a, tip_b = info.corner == CORNER_A, info.corner == CORNER_B
+    assert tip_a.any() and tip_b.any() and (info.corner == 0).sum() > 0.8 * grid.n
+    assert np.abs(grid.normals[tip_a] - n_b[tip_a]).max() < 1e-9
+    assert np.abs(grid.normals[tip_b] - n_a[tip_b]).max() < 1e-9
+    mid = ~(tip_a | tip_b)
+    assert np.abs(grid.normals[mid] - _on_cone_bisector(n_a, n_b)[mid]).max() < 1e-9
+    c = link.coarse
+    assert np.abs(_flank_normal(drv, view.driver_side, c.x_a) - c.normals).max() < 1e-9
+    for g in (grid, c):
+        # the gap is measured along it: x_b = x_a + dev_B n_k on the driven flank, g0 =
+        # dev_A + dev_B (no modifications here), dev_A ~1e-14 mm (x_a on the driver flank)
         assert np.allclose(g.x_b - g.x_a, g.gap0[:, None] * g.normals, rtol=0, atol=1e-12)
+        dev_b = involute_deviation(dvn.gear, dvn.placement.inverse(g.x_b), view.driven_side)
+        assert np.abs(dev_b).max() < 1e-9
         # the nominal normal: the plane of action's, the line grid's (one normal, exact n)
         assert np.allclose(line.normals, line.nominal_normal, rtol=0, atol=1e-15)
         assert np.array_equal(g.nominal_normal, line.nominal_normal)
-    # the points off the line are turned about the axis: the same n_z, a transverse turn of
-    # several degrees at the band's edges (a grid with n throughout would fail above)
-    turn = np.degrees(np.arccos(np.clip(grid.normals @ grid.nominal_normal, -1.0, 1.0)))
+    # off the line the flank normals are turned about the axis by several degrees, by
+    # different amounts (the same n_z); at a driver tip corner the driven normal is used
+    turn = np.degrees(np.arccos(np.clip(n_a @ grid.nominal_normal, -1.0, 1.0)))
     assert turn.max() > 3.0
-    assert np.abs(grid.normals[:, 2] - grid.nominal_normal[2]).max() < 1e-15
+    apart = np.degrees(np.arccos(np.clip(np.sum(n_a * n_b, axis=1), -1.0, 1.0)))
+    assert apart.max() > 1.0
+    assert np.abs(grid.normals[:, 2] - grid.nominal_normal[2]).max() < 1e-12
     # on the line (the coarse points of the pairs in the path, g0 at its smallest) n_q = n
     # up to the vertex refinement of the centre (measured < 3e-6 rad)
-    c = link.coarse
     on = np.abs(c.gap0 - c.gap0.min()) < 1e-9
     assert on.sum() >= line.n - 4
     assert np.abs(c.normals[on] - c.nominal_normal).max() < 1e-5
