@@ -99,7 +99,7 @@ class Numerics:
     # the whole potential contact zone of the drive and coast flanks, the FE compliance on one
     # point per section, the local compliance from Boussinesq half-space coefficients, exact
     # contact; solvers.flank_grid.zone_grid, solvers.contact eq. (5)).
-    contact_model: str = "line"
+    contact_model: str = "zone"
     # "zone": grid points are laid where the unloaded separation (modifications included) is
     # below this (um), ZONE_GAP_RANGE: a few times the largest approach under load (Hertz +
     # bending + mismatch, 10-20 um for these gears).

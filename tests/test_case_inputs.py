@@ -107,6 +107,7 @@ def test_table_must_be_a_table():
 def test_numerics_defaults_are_documented_once():
     assert DEFAULTS == Numerics()
     assert (DEFAULTS.degree, DEFAULTS.penalty_factor, DEFAULTS.grid_spacing) == (1, 100.0, None)
+    assert DEFAULTS.contact_model == "zone"
     case = parse_study_case(_mutated(_case_raw(), ["numerics"], None), "1-GB.toml")
     assert case.numerics == DEFAULTS
 
@@ -114,7 +115,7 @@ def test_numerics_defaults_are_documented_once():
 @pytest.mark.parametrize("name", SHIPPED)
 def test_shipped_cases_spell_out_the_numerics_defaults(name):
     raw = _case_raw(name)
-    assert raw["numerics"] == {"degree": 1, "penalty_factor": 100.0}
+    assert raw["numerics"] == {"degree": 1, "penalty_factor": 100.0, "contact_model": "zone"}
     case = load_study_case(name)
     assert case.numerics == DEFAULTS
     # Spelling the defaults out or leaving them out is the same run.
@@ -400,7 +401,7 @@ def test_study_inputs_are_json_with_resolved_data():
     sc, gs = inputs["study_case"], inputs["gearset"]
     assert sc["numerics"] == {
         "degree": 1, "penalty_factor": 100.0, "grid_spacing": None,
-        "contact_model": "line", "zone_gap_limit_um": 40.0,
+        "contact_model": "zone", "zone_gap_limit_um": 40.0,
         "linear_solver": "mumps", "linear_tolerance": None,
     }  # fmt: skip
     assert sc["material"] == {

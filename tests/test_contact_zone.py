@@ -56,10 +56,11 @@ def test_contact_model_defaults_and_validation():
 
 def test_contact_model_is_read_and_hashed():
     raw = read_toml(STUDY.path)
-    raw["numerics"] = {**raw["numerics"], "contact_model": "zone"}
-    zone = parse_study_case(raw, "1-GA.toml", STUDY.path)
-    assert zone.numerics.contact_model == "zone"
-    assert inputs_hash(zone) != inputs_hash(STUDY)
+    assert raw["numerics"]["contact_model"] == "zone"  # the shipped case spells it out
+    raw["numerics"] = {**raw["numerics"], "contact_model": "line"}
+    line = parse_study_case(raw, "1-GA.toml", STUDY.path)
+    assert line.numerics.contact_model == "line" and STUDY.numerics.contact_model == "zone"
+    assert inputs_hash(line) != inputs_hash(STUDY)
     raw["numerics"]["contact_model"] = "patch"
     with pytest.raises(CaseError, match=r"1-GA\.toml: numerics\.contact_model = 'patch'"):
         parse_study_case(raw, "1-GA.toml", STUDY.path)

@@ -137,9 +137,10 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
     )
     case2 = summary_uncertainty(load_study_case("2B-GA"), 1, 1, tmp_path)
     assert case2["uncertainty"] is None and "gear set case2" in case2["uncertainty_source"]["note"]
-    # a study of the line contact model does not serve a zone-model case (other numerics)
-    zone = replace(ga, numerics=replace(ga.numerics, contact_model="zone"))
-    assert summary_uncertainty(zone, 1, 1, tmp_path)["uncertainty"] is None
+    # a study of the zone contact model (the default) does not serve a line-model case
+    # (other numerics)
+    line = replace(ga, numerics=replace(ga.numerics, contact_model="line"))
+    assert summary_uncertainty(line, 1, 1, tmp_path)["uncertainty"] is None
 
 
 @pytest.mark.parametrize(

@@ -213,25 +213,27 @@ def test_misspelt_key_refused_by_the_driver(stub, tmp_path, capsys):
     assert stub.rolls == []
 
 
-def test_zone_contact_model_runs_and_is_recorded(stub, tmp_path, capsys):
-    """The zone contact model runs in the driver like the line model (its post-processing
-    reads zone grids, tests/test_zone_study.py solves one), and the summary records which
-    model produced it (its inputs)."""
+@pytest.mark.parametrize("model", ["zone", "line"])
+def test_contact_model_runs_and_is_recorded(stub, tmp_path, capsys, model):
+    """The shipped case (the zone contact model, the default, spelled out) and the same case
+    with the line model run in the driver alike (tests/test_zone_study.py solves both), and
+    the summary records which model produced it (its inputs)."""
     text = Path(load_study_case("1-GA").path).read_text()
-    assert "[numerics]" in text
-    zone = tmp_path / "1-GA.toml"
-    zone.write_text(text.replace("[numerics]", '[numerics]\ncontact_model = "zone"'))
-    assert cli(tmp_path, zone, "--positions", N_POS) == 0
+    assert 'contact_model = "zone"' in text
+    case = tmp_path / "1-GA.toml"
+    case.write_text(text.replace('contact_model = "zone"', f'contact_model = "{model}"'))
+    assert cli(tmp_path, case, "--positions", N_POS) == 0
     assert len(stub.rolls) == N_POS
     summary = json.loads((tmp_path / "out" / "1-GA" / "summary.json").read_text())
-    assert summary["inputs"]["study_case"]["numerics"]["contact_model"] == "zone"
+    assert summary["inputs"]["study_case"]["numerics"]["contact_model"] == model
 
 
 def test_unknown_contact_model_refused(stub, tmp_path, capsys):
     """A contact model the solver does not have is invalid input naming the field."""
     text = Path(load_study_case("1-GA").path).read_text()
     bad = tmp_path / "1-GA.toml"
-    bad.write_text(text.replace("[numerics]", '[numerics]\ncontact_model = "patch"'))
+    assert 'contact_model = "zone"' in text
+    bad.write_text(text.replace('contact_model = "zone"', 'contact_model = "patch"'))
     assert cli(tmp_path, bad) == 2
     assert "numerics.contact_model = 'patch'" in one_error_line(capsys.readouterr().err)
     assert stub.rolls == []
