@@ -47,6 +47,10 @@ final gap ``min_gap_mm`` (negative: closed, the penalty penetration of a loaded 
 the points with their forces and final gaps. ``coast_min_gap_mm`` and ``coast_force_N`` sum
 them up over the meshes; :func:`coast_summary` over the positions of a study.
 
+Per mesh (drive and coast), ``torque_Nm`` and ``transmitted_force_N`` by gear
+(:func:`mesh_torques`): the moment of the mesh's point forces about each gear's axis, and
+that moment over the gear's r_b cos(beta_b).
+
 Torques about the scene axis: applied sun torque, sun and ring contact torques, ring support
 reaction (their balance is a check the solver does not impose).
 """
@@ -160,6 +164,25 @@ def mesh_stations(mesh: dict) -> dict:
     return out
 
 
+def mesh_torques(model, zone, grid, F) -> dict:
+    """Per gear of a mesh, the moment about its own axis (scene z through its centre c) of
+    the mesh's contact forces on it, T = sum_k ((x_k - c) x s F_k n_k)_z (N m; s = -1 on
+    the driver at x_a, +1 on the driven gear at x_b), and the force that torque transmits,
+    T / (r_b cos(beta_b)) (N, unsigned). On a line grid (every n_k the plane of action's)
+    the latter is the mesh's normal force sum F_k at both gears; off the line of action (a
+    zone grid's cells, their own normals) each gear's arm differs, and only the torques
+    are statics."""
+    torque, force = {}, {}
+    for name, sgn, x in ((zone.driver, -1.0, grid.x_a), (zone.driven, +1.0, grid.x_b)):
+        pg = model.scene.gear(name)
+        c = np.array([*pg.placement.centre, 0.0])
+        f = sgn * F[:, None] * np.asarray(grid.normals, float)
+        t = float(np.cross(np.asarray(x, float) - c, f)[:, 2].sum())  # N mm
+        torque[name] = float(n_m(t))
+        force[name] = float(abs(t) / (pg.gear.base_radius * np.cos(pg.gear.base_helix_angle)))
+    return {"torque_Nm": torque, "transmitted_force_N": force}
+
+
 def _mesh(model, result, index: int, zone, lines: list[dict]) -> dict:
     p = model.problem
     sl = slice(p.offsets[index], p.offsets[index + 1])
@@ -175,6 +198,7 @@ def _mesh(model, result, index: int, zone, lines: list[dict]) -> dict:
         # the plane of action's normal (driver -> driven, scene frame; ContactGrid.nominal_normal)
         "normal": np.asarray(g.nominal_normal, float).tolist(),
         **grid_record(p.pairs[index], lines, F),
+        **mesh_torques(model, zone, g, F),
         "on": {},
     }
     for pn, sgn in ((zone.driver, -1.0), (zone.driven, +1.0)):
@@ -211,6 +235,7 @@ def _coast(model, result, index: int, zone, lines: list[dict]) -> dict:
     rec = grid_record(p.pairs[index], lines, F)
     rec["points"]["gap_mm"] = gap.tolist()
     out.update(rec)
+    out.update(mesh_torques(model, zone, g, F))
     return out
 
 

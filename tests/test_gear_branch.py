@@ -9,6 +9,7 @@ import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -86,9 +87,20 @@ def test_grid_on_both_exact_flanks(roll):
         assert all(ln["spacing"] <= 1.5 for ln in info.lines)
 
 
+def line_model(case):
+    """``case`` with the line contact model (points on the plane of action, penalty)."""
+    return replace(case, numerics=replace(case.numerics, contact_model="line"))
+
+
 @pytest.fixture(scope="module")
 def ga():
     return solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+
+
+@pytest.fixture(scope="module")
+def ga_line():
+    case = line_model(load_study_case("1-GA"))
+    return solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
 
 
 @pytest.fixture(scope="module")
@@ -106,29 +118,102 @@ def carrier_torque_Nm(pos: dict) -> float:
     return -float(c[0] * f[1] - c[1] * f[0]) / 1e3
 
 
-def test_torque_balance_and_ratio(ga):
-    """(b) Statics of the frictionless, carrier-fixed branch."""
-    # (The sun torque balance and the spring moment = contact moment hold by construction:
-    # the sun rotation is a rigid unknown with its moment equation, the bearing is the only
-    # support of the pinion. They are not tested here.)
+def mesh_records(r: dict) -> list[dict]:
+    """Every mesh record of a position, drive and coast."""
+    return [*r["meshes"].values(), *r.get("coast", {}).values()]
+
+
+def off_line_share(r: dict) -> float:
+    """The statics share of the contact off the line of action: over every mesh m (drive
+    and coast), |F_tr,A - F_tr,B| / F_0, F_tr = the mesh's torque about that gear's axis /
+    (r_b cos(beta_b)) (``transmitted_force_N``, A its driver, B its driven gear), F_0 =
+    T_sun / (r_b,sun cos(beta_b)). 0 (round-off) on a line grid, whose forces all act along
+    the plane of action. It bounds the departure from the tooth ratio: with phi the signed
+    torque / (r_b cos(beta_b)) of a mesh on a gear, each mesh pushes its gears in opposite
+    senses (phi_A + phi_B = +-(F_tr,A - F_tr,B)), the pinion's add up to 0 (spin), so
+    T_ring / r_ring + T_sun / r_sun = sum_m (phi_A + phi_B) and
+    |T_ring r_b,sun / (T_sun r_b,ring) + 1| <= this share (triangle inequality)."""
+    sun = [m for m in mesh_records(r) if "sun" in m["torque_Nm"]]
+    t_sun = sum(m["torque_Nm"]["sun"] for m in sun)
+    f0 = r["meshes"][r["mesh_S"]]["transmitted_force_N"]["sun"] * abs(
+        t_sun / r["meshes"][r["mesh_S"]]["torque_Nm"]["sun"]
+    )
+    out = 0.0
+    for m in mesh_records(r):
+        tr = m["transmitted_force_N"]
+        out += abs(tr[m["driver"]] - tr[m["driven"]]) / f0
+    return out
+
+
+def exact_statics(r: dict) -> None:
+    """The statics the solver guarantees for any contact normals, to round-off: the sun's
+    moment equation (the contact torque on it is the applied torque), the ring's support
+    (its reaction is the moment of the contact forces on it), the pinion's spin equation
+    (its meshes' torques about its axis cancel), and the balance of the whole branch about
+    the scene axis (sun + ring + carrier = 0, the carrier torque from the reported bearing
+    force, frame and centre). Torques from the point forces F_k n_k at x_k, the mesh records
+    against the body resultants (solvers.results.contact_resultant). Round-off of sums of
+    ~1e3 points of ~1e4 N at ~50 mm: 1e-9 relative is far above it (measured ~1e-13)."""
+    sun_t = sum(m["torque_Nm"].get("sun", 0.0) for m in mesh_records(r))
+    ring_t = sum(m["torque_Nm"].get("ring", 0.0) for m in mesh_records(r))
+    pin_t = sum(m["torque_Nm"].get(r["pinion"], 0.0) for m in mesh_records(r))
+    assert sun_t == pytest.approx(-T_BRANCH, rel=1e-9)
+    assert sun_t == pytest.approx(r["sun_contact_torque_Nm"], rel=1e-9)
+    assert ring_t == pytest.approx(r["ring_contact_torque_Nm"], rel=1e-9)
+    assert r["ring_support_torque_Nm"] == pytest.approx(-ring_t, rel=1e-9)
+    assert abs(pin_t - r["pinion_spin_moment_Nm"]) < 1e-9 * T_BRANCH
+    assert carrier_torque_Nm(r) == pytest.approx(
+        -(T_BRANCH + r["ring_support_torque_Nm"]), rel=1e-9
+    )
+
+
+@pytest.mark.parametrize("model", ["ga_line", "ga"])
+def test_torque_balance_and_ratio(model, request):
+    """(b) Statics of the frictionless, carrier-fixed branch, on the line grid (every force
+    on the plane of action: the closed forms hold exactly) and on the zone grid (the
+    default: cells off the line of action carry their own normals, so the closed forms hold
+    up to the measured off-line share, the exact statics to round-off)."""
+    ga = request.getfixturevalue(model)
+    # (The spring moment = contact moment holds by construction: the bearing is the only
+    # support of the pinion; not tested here.)
     # zero-moment spin equation: round-off against the ~1e3 N m scale of the mesh moments
     assert abs(ga["pinion_spin_moment_Nm"]) < 1e-6 * abs(ga["My_pin"])
-    # frictionless involutes, carrier fixed: equal normal forces at both meshes (spin
-    # balance with one plane-of-action normal per mesh) and lever arms r_b cos(beta_b), so
-    # T_ring / T_sun = r_b,ring / r_b,sun = Zr / Zs exactly (linearized kinematics: the
-    # error is ~ theta r / r_b ~ 1e-3 at most); 0.5 % as asked
+    exact_statics(ga)
+    off = off_line_share(ga)
+    if model == "ga_line":
+        assert off < 1e-12  # one plane-of-action normal per mesh: equal arms, round-off
+        # frictionless involutes, carrier fixed: equal normal forces at both meshes (spin
+        # balance with one plane-of-action normal per mesh) and lever arms r_b cos(beta_b)
+        assert ga["mesh_normal_force_R_N"] == pytest.approx(ga["mesh_normal_force_S_N"],
+                                                            rel=1e-9)  # fmt: skip
+        tol = 1e-9  # the axial force n_z sum F_k with sum F_k = T / (r_b cos beta_b): exact
+    else:
+        # 1-GA: the load sits on the line; the cells off it move each gear's arm by 0.02-0.2
+        # % (sun 17576 / pinion 17543 / ring 17540 N transmitted at roll 0, sum F_k 17567 /
+        # 17550 N at the sun / ring mesh); the share (measured 2.0e-3) bounds sum F_k's
+        # departure from the closed form T / (r_b cos beta_b) (measured 5.2e-4 at the sun,
+        # 9.9e-4 between the meshes)
+        assert 1e-4 < off < 5e-3
+        assert ga["mesh_normal_force_R_N"] == pytest.approx(ga["mesh_normal_force_S_N"],
+                                                            rel=off)  # fmt: skip
+        tol = off
+    # T_ring / T_sun = r_b,ring / r_b,sun = Zr / Zs (linearized kinematics: ~ theta r / r_b ~
+    # 1e-3 at most on the line grid; the zone grid's chain of arms moves it by at most the
+    # off-line share); 0.5 % as asked
     assert ga["ring_support_torque_Nm"] / T_BRANCH == pytest.approx(86 / 35, rel=5e-3)
-    assert ga["mesh_normal_force_R_N"] == pytest.approx(ga["mesh_normal_force_S_N"], rel=1e-9)
     # contact-force and residual resultants agree to round-off (measured ~1e-13)
     assert ga["resultant_mismatch_rel"] < 1e-9
-    # the bearing carries the analytic pinion force (force balance, no lever arms involved)
-    assert np.allclose(ga["pinion_force_N"], ga["analytic"]["Fpin"], rtol=0, atol=1e-6 * 3e4)
+    # the bearing carries the analytic pinion force (force balance, no lever arms involved
+    # on the line grid; on the zone grid the mesh forces move with the off-line share, which
+    # measured 44 N = 1.5e-3 of 3e4 N, within the share of 3e4 N)
+    atol = 1e-6 * 3e4 if model == "ga_line" else off * 3e4
+    assert np.allclose(ga["pinion_force_N"], ga["analytic"]["Fpin"], rtol=0, atol=atol)
     # the frame is the paper's: FyS < 0 by construction, and then FzS > 0, FxS > 0, FyR < 0,
     # FzR < 0 as in Table 3 (a mirrored frame would flip FzS); signs only, magnitudes above
     fs, fr = ga["FS_pinion_N"], ga["FR_pinion_N"]
     assert fs[0] > 0 and fs[1] < 0 and fs[2] > 0
     assert fr[0] < 0 and fr[1] < 0 and fr[2] < 0
-    assert fs[2] == pytest.approx(ga["analytic"]["FzS"], rel=1e-9)
+    assert fs[2] == pytest.approx(ga["analytic"]["FzS"], rel=tol)
     # The carrier reaction: the torque of the bearing force about the scene axis is the
     # textbook carrier torque of a simple planetary with the carrier held, T_c = -T_sun (1 +
     # Z_ring / Z_sun) (T_sun : T_ring : T_c = 1 : Zr/Zs : -(1 + Zr/Zs)). Nothing in the model
@@ -180,23 +265,33 @@ def test_bearing_softness_ordering(ga, gc):
     assert abs(gc["M_LOA_sun"]) < abs(ga["M_LOA_sun"])
     assert abs(gc["M_LOA_ring"]) < abs(ga["M_LOA_ring"])
     # the statics hold for any bearing: ring and carrier reactions (see above)
-    assert gc["ring_support_torque_Nm"] / T_BRANCH == pytest.approx(86 / 35, rel=5e-3)
-    assert carrier_torque_Nm(gc) == pytest.approx(-T_BRANCH * (1 + 86 / 35), rel=5e-3)
+    exact_statics(gc)
+    # The closed form Zr / Zs needs every force on the plane of action. The overturned 1-GC
+    # pinion pinches the tip corners at both meshes and loads the coast flanks: there the
+    # forces act along the smooth mate's flank normal, several degrees off the plane of
+    # action, and the arms about the three axes no longer chain to Zr / Zs: by at most the
+    # off-line share (off_line_share: measured 2.418e-2 at roll 0, where the ratio is 2.418e-2
+    # low: the bound is attained, every mesh shifts the same way; 1e-9 for round-off)
+    off = off_line_share(gc)
+    assert 1e-2 < off < 5e-2
+    assert abs(gc["ring_support_torque_Nm"] / T_BRANCH / (86 / 35) - 1) <= off + 1e-9
+    carrier = -T_BRANCH * (1 + 86 / 35)
+    assert abs(carrier_torque_Nm(gc) / carrier - 1) <= off + 1e-9
 
 
 KEYS = ("Mx_pin", "My_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring", "ring_support_torque_Nm")
 
 
-def test_penalty_sweep_on_gear_moments(ga):
-    """Penalty factor over three decades (10, 100 = default, 1000) on 1-GA: the reported
-    moments and offsets converge as 1/eps (the condensed penalty problem tends to the exact
-    contact limit); over the top decade they move < 1 % (issue 4, check 5)."""
-    case = load_study_case("1-GA")
+def test_penalty_sweep_on_gear_moments(ga_line):
+    """Line model: penalty factor over three decades (10, 100 = default, 1000) on 1-GA: the
+    reported moments and offsets converge as 1/eps (the condensed penalty problem tends to
+    the exact contact limit); over the top decade they move < 1 % (issue 4, check 5)."""
+    case = line_model(load_study_case("1-GA"))
     runs = {
         f: solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1, penalty_factor=f)
         for f in (10.0, 1000.0)
     }
-    runs[100.0] = ga
+    runs[100.0] = ga_line
     for key in ("My_pin", "M_LOA_sun", "M_LOA_ring"):
         lo, mid, hi = (runs[f][key] for f in (10.0, 100.0, 1000.0))
         assert abs(hi - mid) < 0.01 * abs(hi)  # the issue's criterion: < 1 % over the top decade
@@ -204,6 +299,18 @@ def test_penalty_sweep_on_gear_moments(ga):
     # ZS, ZR in mm: top-decade change below 1 % of the face width (29 mm) -> 0.29 mm
     for key in ("ZS", "ZR"):
         assert abs(runs[1000.0][key] - runs[100.0][key]) < 0.29
+
+
+def test_zone_model_has_no_penalty(ga):
+    """Zone model (the default): drive and coast flanks on zone grids, exact contact, so the
+    penalty factor is not used: a solve at 10 x the default gives the same results to
+    round-off (1e-9 relative: the same linear systems; measured 0)."""
+    assert all(m["grid_model"] == "zone" for m in mesh_records(ga))
+    case = load_study_case("1-GA")
+    hi = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1, penalty_factor=1000.0)
+    for key in KEYS:
+        scale = 29.0 if key in ("ZS", "ZR") else abs(ga["My_pin"])
+        assert hi[key] == pytest.approx(ga[key], rel=1e-9, abs=1e-9 * scale), key
 
 
 @pytest.mark.mpi
