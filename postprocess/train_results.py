@@ -48,8 +48,9 @@ the points with their forces and final gaps. ``coast_min_gap_mm`` and ``coast_fo
 them up over the meshes; :func:`coast_summary` over the positions of a study.
 
 Per mesh (drive and coast), ``torque_Nm`` and ``transmitted_force_N`` by gear
-(:func:`mesh_torques`): the moment of the mesh's point forces about each gear's axis, and
-that moment over the gear's r_b cos(beta_b).
+(:func:`mesh_torques`): the moment of the mesh's point forces about each gear's axis, that
+moment over the gear's r_b cos(beta_b), and ``off_line_N``, how far the points' arms depart
+from r_b cos(beta_b) (0 on a line grid).
 
 Torques about the scene axis: applied sun torque, sun and ring contact torques, ring support
 reaction (their balance is a check the solver does not impose).
@@ -167,20 +168,27 @@ def mesh_stations(mesh: dict) -> dict:
 def mesh_torques(model, zone, grid, F) -> dict:
     """Per gear of a mesh, the moment about its own axis (scene z through its centre c) of
     the mesh's contact forces on it, T = sum_k ((x_k - c) x s F_k n_k)_z (N m; s = -1 on
-    the driver at x_a, +1 on the driven gear at x_b), and the force that torque transmits,
-    T / (r_b cos(beta_b)) (N, unsigned). On a line grid (every n_k the plane of action's)
-    the latter is the mesh's normal force sum F_k at both gears; off the line of action (a
-    zone grid's cells, their own normals) each gear's arm differs, and only the torques
-    are statics."""
-    torque, force = {}, {}
+    the driver at x_a, +1 on the driven gear at x_b), the force that torque transmits,
+    F_tr = |T| / (r_b cos(beta_b)) (N), and the force-weighted departure of the points' arms
+    a_k = |((x_k - c) x n_k)_z| from the plane of action's r_b cos(beta_b),
+
+        off_line_N = sum_k F_k |a_k - r_b cos(beta_b)| / (r_b cos(beta_b))  >=  |F_tr - sum_k F_k|.
+
+    On a line grid (every n_k the plane of action's) a_k = r_b cos(beta_b): F_tr = sum F_k at
+    both gears and off_line_N = 0 (round-off); off the line of action (a zone grid's cells,
+    their own normals) each gear's arms differ, and only the torques are statics."""
+    torque, force, off = {}, {}, {}
+    nk = np.asarray(grid.normals, float)
     for name, sgn, x in ((zone.driver, -1.0, grid.x_a), (zone.driven, +1.0, grid.x_b)):
         pg = model.scene.gear(name)
         c = np.array([*pg.placement.centre, 0.0])
-        f = sgn * F[:, None] * np.asarray(grid.normals, float)
-        t = float(np.cross(np.asarray(x, float) - c, f)[:, 2].sum())  # N mm
+        arm = np.cross(np.asarray(x, float) - c, nk)[:, 2]  # mm, per unit force along n_k
+        t = float(sgn * (F * arm).sum())  # N mm
+        r0 = pg.gear.base_radius * np.cos(pg.gear.base_helix_angle)
         torque[name] = float(n_m(t))
-        force[name] = float(abs(t) / (pg.gear.base_radius * np.cos(pg.gear.base_helix_angle)))
-    return {"torque_Nm": torque, "transmitted_force_N": force}
+        force[name] = float(abs(t) / r0)
+        off[name] = float((F * np.abs(np.abs(arm) - r0)).sum() / r0)
+    return {"torque_Nm": torque, "transmitted_force_N": force, "off_line_N": off}
 
 
 def _mesh(model, result, index: int, zone, lines: list[dict]) -> dict:

@@ -327,9 +327,11 @@ def _tilt_estimate(pos: dict, mesh: str) -> float:
 
 def test_coast_flanks_stay_open_under_normal_bearings(ga, gb):
     """Rigid (1-GA) and normal (1-GB) bearings: no coast point carries load, and the coast
-    gap is what the pinion tilt leaves of the backlash (measured: 1-GA 91.1 / 90.6 um, 1-GB
-    74.4 / 71.4 um against the tilt estimate 89.0 / 88.9 and 79.2 / 75.0 um; the rest is the
-    elastic deflection of the loaded teeth, a few um)."""
+    gap is what the pinion tilt leaves of the backlash (measured, zone model: 1-GA 94.6 /
+    93.0 um, 1-GB 79.0 / 74.0 um against the tilt estimate 89.0 / 88.9 and 79.2 / 75.0 um;
+    line model 91.1 / 90.6 and 74.4 / 71.4 um; the rest is the elastic approach of the
+    loaded teeth, a few um, larger on the zone grid, whose half-space near field adds the
+    Hertzian approach the line grid's penalty springs lack)."""
     j_n = CASE1.meshes[0].normal_backlash
     for pos in (ga, gb):
         assert set(pos["coast"]) == {"sun-pinion", "pinion-ring"}
@@ -340,9 +342,12 @@ def test_coast_flanks_stay_open_under_normal_bearings(ga, gb):
             assert c["initial_gap_min_mm"] == pytest.approx(j_n, abs=1e-12)
             assert c["min_gap_mm"] == pytest.approx(_tilt_estimate(pos, mesh), abs=8 * UM)
         assert pos["coast_min_gap_mm"] == min(c["min_gap_mm"] for c in pos["coast"].values())
-    # rigid bearing: the backlash stays (within 3 um); normal bearing: the tilt eats 15-18 um
-    assert all(abs(c["min_gap_mm"] - j_n) < 3 * UM for c in ga["coast"].values())
-    assert all(0.5 * j_n < c["min_gap_mm"] < j_n - 10 * UM for c in gb["coast"].values())
+    # rigid bearing: the backlash stays, opened by the drive teeth's approach (within 8 um:
+    # measured +5.5 um zone, +2.0 um line); normal bearing: the tilt eats 10-14 um (the
+    # tilt estimate), of which the approach gives back up to ~5 um: below j_n - 5 um
+    # (measured 10.1 / 15.1 um below j_n)
+    assert all(-1 * UM < c["min_gap_mm"] - j_n < 8 * UM for c in ga["coast"].values())
+    assert all(0.5 * j_n < c["min_gap_mm"] < j_n - 5 * UM for c in gb["coast"].values())
 
 
 def _point_normals(scene, g: dict, coast: bool) -> np.ndarray:
@@ -399,23 +404,36 @@ def test_overturned_pinion_loads_the_coast_flanks(overturned):
         # the coast load sits at the face end where the drive load is (wedged tooth end)
         zc, zdr = float(f @ z / f.sum()), float(fd @ zd / fd.sum())
         assert np.sign(zc) == np.sign(zdr) and abs(zc) > 8.0 and abs(zdr) > 8.0
-        # every point force F_k n_k along its own normal (the flank normal at the point)
-        n_d, n_c = _point_normals(scene, drive, False), _point_normals(scene, c, True)
-        # the drive flank carries the transmitted load plus what the coast flank pushes back:
-        # with each point's force along the driver's flank normal there, its arm about the
-        # driver's axis is r_b cos(beta_b) at every point (line and zone model alike), so
-        # the net normal force is the driver's torque over that arm, to round-off
         drv = scene.gear(drive["driver"])
         arm = drv.gear.base_radius * math.cos(drv.gear.base_helix_angle)
-        c_drv = (*drv.placement.centre, 0.0)
-        torque = _moment_about(drive, n_d, c_drv) + _moment_about(c, n_c, c_drv)
         net = drive["normal_force_N"] - c["normal_force_N"]
-        assert abs(torque) == pytest.approx(arm * net, rel=1e-9)
         nets[mesh] = net
+        if model == "line":
+            # every point force F_k n_k along the plane of action's normal, the driver's
+            # flank normal at the point (computed here from the flank itself)
+            n_d, n_c = _point_normals(scene, drive, False), _point_normals(scene, c, True)
+            # the drive flank carries the transmitted load plus what the coast flank pushes
+            # back: its arm about the driver's axis is r_b cos(beta_b) at every point, so
+            # the net normal force is the driver's torque over that arm, to round-off
+            c_drv = (*drv.placement.centre, 0.0)
+            torque = _moment_about(drive, n_d, c_drv) + _moment_about(c, n_c, c_drv)
+            assert abs(torque) == pytest.approx(arm * net, rel=1e-9)
+            on_pinion = 1.0 if drive["driven"] == "pinion" else -1.0  # on it: +-F n
+            spin += on_pinion * (_moment_about(drive, n_d, pinion_c)
+                                 + _moment_about(c, n_c, pinion_c))  # fmt: skip
+        else:
+            # zone cells carry their own normals (solvers.flank_grid.contact_normals): the
+            # torques from the point forces (postprocess.train_results.mesh_torques); the net
+            # force departs from the driver's torque over its arm by at most the force-
+            # weighted departure of the point arms (off_line_N, drive and coast)
+            # (the moment of the forces F_k n_k, i.e. minus the torque on the driver)
+            name = drive["driver"]
+            torque = -1e3 * (drive["torque_Nm"][name] + c["torque_Nm"][name])
+            off = drive["off_line_N"][name] + c["off_line_N"][name]
+            assert abs(abs(torque) / arm - net) <= off + 1e-9 * net
+            spin += 1e3 * (drive["torque_Nm"]["pinion"] + c["torque_Nm"]["pinion"])
         if mesh == "sun-pinion":  # the sun torque (one branch) about the sun axis
             assert torque == pytest.approx(1e3 * pos["sun_torque_applied_Nm"], rel=1e-9)
-        on_pinion = 1.0 if drive["driven"] == "pinion" else -1.0  # the force on it: +-F n
-        spin += on_pinion * (_moment_about(drive, n_d, pinion_c) + _moment_about(c, n_c, pinion_c))
     # the pinion spins free: the moments of both meshes about its axis cancel (to the
     # round-off of the 25 kN x 19 mm terms)
     assert abs(spin) < 1e-9 * ga_mesh_force() * 19.4
@@ -428,9 +446,23 @@ def test_overturned_pinion_loads_the_coast_flanks(overturned):
     # force-weighted, up to 6 deg, the load reaching both tips at the pinched tooth end),
     # whose arm about the pinion axis is 2.0 % short (force-weighted over the 22.7 kN drive
     # load): 473 N, 2.7 % of the 17.6 kN net (3.0 % before); 4 % bounds it
-    assert nets["sun-pinion"] == pytest.approx(ga_mesh_force(), rel=1e-9)
-    ring_tol = 1e-9 if model == "line" else 0.04
-    assert nets["pinion-ring"] == pytest.approx(ga_mesh_force(), rel=ring_tol)
+    if model == "line":
+        assert nets["sun-pinion"] == pytest.approx(ga_mesh_force(), rel=1e-9)
+        assert nets["pinion-ring"] == pytest.approx(ga_mesh_force(), rel=1e-9)
+    else:
+        # zone: F_0 = the sun's torque over its arm exactly; the nets depart from it by the
+        # point arms' departures along the chain sun -> pinion (spin) -> ring (measured at
+        # roll 0: 2-3 %, the pinched tooth ends loading both tips, see
+        # solvers.flank_grid.zone_grid)
+        s, r = ("sun-pinion", "pinion-ring")
+        rec = {m: (pos["meshes"][m], pos["coast"][m]) for m in (s, r)}
+
+        def off(m, gear):
+            return sum(g["off_line_N"][gear] for g in rec[m])
+
+        f0 = ga_mesh_force()
+        assert abs(nets[s] - f0) <= off(s, "sun") + 1e-9 * f0
+        assert abs(nets[r] - f0) <= off(s, "sun") + off(s, "pinion") + off(r, "pinion") + 1e-9 * f0
     # statics still hold: the contact and residual resultants agree, the sun torque balances
     assert pos["resultant_mismatch_rel"] < 1e-6
     assert pos["sun_contact_torque_Nm"] == pytest.approx(-pos["sun_torque_applied_Nm"], rel=1e-9)

@@ -22,6 +22,7 @@ from gears.microgeometry import FlankModifications, flank_modification
 from gears.profile import involute_deviation
 from gears.spec import GeometryError
 from meshing import scenes
+from postprocess.train_results import mesh_stations
 from solvers.body_store import BodyStore
 from solvers.flank_grid import flank_grid
 from studies.position import solve_position
@@ -224,10 +225,15 @@ def store():
     return BodyStore()
 
 
-def _solve(name: str, gearset, store):
+def _solve(name: str, gearset, store, model: str | None = None):
+    """One position of case ``name`` on ``gearset``; ``model`` a contact model other than
+    the case's (the default, "zone")."""
     import dataclasses
 
     study = dataclasses.replace(load_study_case(name), gearset=gearset)
+    if model is not None:
+        numerics = dataclasses.replace(study.numerics, contact_model=model)
+        study = dataclasses.replace(study, numerics=numerics)
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0, degree=1, store=store)
 
 
@@ -237,14 +243,20 @@ def ga(store):
 
 
 @pytest.fixture(scope="module")
+def ga_line(store):
+    return _solve("1-GA", CASE1, store, "line")
+
+
+@pytest.fixture(scope="module")
 def gb(store):
     return _solve("1-GB", CASE1, store)
 
 
 def test_zero_backlash_no_modification_reproduces_the_drive_flanks(store):
-    """Zero backlash and no modification: the drive-flank results of before the coast grids
-    and microgeometry, to 1e-10 (measured 2e-12; the coast grids stay open, 1.4 um)."""
-    pos = _solve("1-GA", _set(backlash_um=0.0), store)
+    """Line model (the results of before were line grids): zero backlash and no modification
+    give the drive-flank results of before the coast grids and microgeometry, to 1e-10
+    (measured 2e-12; the coast grids stay open, 1.4 um)."""
+    pos = _solve("1-GA", _set(backlash_um=0.0), store, "line")
     for k, v in GA_BEFORE.items():
         assert pos[k] == pytest.approx(v, rel=1e-10), k
     for k, v in GA_BEFORE_RIGID.items():
@@ -256,43 +268,68 @@ def test_zero_backlash_no_modification_reproduces_the_drive_flanks(store):
 
 
 def _end_points(mesh: dict, b: float) -> np.ndarray:
-    """Grid points within one grid spacing (1 mm) of a face end of the common width."""
-    z = np.asarray(mesh["points"]["x_mm"])[:, 2]
+    """Stations (line grid: its points; zone grid: its sections) within one grid spacing
+    (1 mm) of a face end of the common width."""
+    z = np.asarray(mesh_stations(mesh)["x_mm"])[:, 2]
     return np.abs(z) > 0.5 * b - 1.0
 
 
-def test_lead_crown_pulls_the_load_off_the_face_ends(ga, store):
+def _chain_bound(pos: dict, mesh: str) -> float:
+    """How far (N) the mesh's sum F_k may lie from F_0 = T_sun / (r_b,sun cos(beta_b)), the
+    coast flanks open: the force-weighted departures of the point arms from r_b cos(beta_b)
+    (``off_line_N``) along sun -> pinion (its spin: equal torques at its meshes) -> ring."""
+    s = pos["meshes"]["sun-pinion"]["off_line_N"]
+    if mesh == "sun-pinion":
+        return s["sun"]
+    return s["sun"] + s["pinion"] + pos["meshes"][mesh]["off_line_N"]["pinion"]
+
+
+@pytest.mark.parametrize("model", ["line", "zone"])
+def test_lead_crown_pulls_the_load_off_the_face_ends(ga, ga_line, store, model):
     """A 10 um lead crown on the pinion (both flanks, so both meshes) unloads the face ends
-    of the aligned 1-GA: the mean line load of the end points falls to about half at the sun
-    mesh and a third at the ring mesh (measured 789 -> 388 and 497 -> 143 N/mm), the peak
-    moves inside, the total is unchanged."""
-    crowned = _solve("1-GA", _set({"pinion": {"lead_crown_um": 10.0}}), store)
+    of the aligned 1-GA: the mean line load of the end stations falls to about half at the
+    sun mesh and a third at the ring mesh (line model: measured 789 -> 388 and 497 -> 143
+    N/mm; zone model 370 -> 211 and 172 -> 76 N/mm: its local contact compliance already
+    spreads the end load), the peak moves inside, the total is unchanged (the zone grid's sections differ with the crown: their cells are laid where
+    g0, the crown included, is below the gap limit; the sections along the face do not)."""
+    plain = ga_line if model == "line" else ga
+    crowned = _solve("1-GA", _set({"pinion": {"lead_crown_um": 10.0}}), store, model)
     b = min(PINION.face_width, CASE1.gears["sun"].face_width)
     for mesh in ("sun-pinion", "pinion-ring"):
-        m0, m1 = ga["meshes"][mesh], crowned["meshes"][mesh]
-        w0 = np.asarray(m0["points"]["line_load_N_per_mm"])
-        w1 = np.asarray(m1["points"]["line_load_N_per_mm"])
-        end = _end_points(m0, b)
-        assert np.array_equal(end, _end_points(m1, b))  # the same grid
-        assert w1[end].mean() < 0.6 * w0[end].mean()
-        assert w1[end].max() < w1[~end].max()  # the peak is inside the face
-        assert m1["normal_force_N"] == pytest.approx(m0["normal_force_N"], rel=1e-9)
-    # the largest initial gap: the crown at the outermost grid points, half a spacing inside
-    assert 0.85 * 10.0 * UM < crowned["g0_max_abs_mm"] <= 10.0 * UM
+        m0, m1 = plain["meshes"][mesh], crowned["meshes"][mesh]
+        w0 = np.asarray(mesh_stations(m0)["line_load_N_per_mm"])
+        w1 = np.asarray(mesh_stations(m1)["line_load_N_per_mm"])
+        end, end1 = _end_points(m0, b), _end_points(m1, b)
+        if model == "line":
+            assert np.array_equal(end, end1)  # the same grid
+        assert w1[end1].mean() < 0.6 * w0[end].mean()
+        assert w1[end1].max() < w1[~end1].max()  # the peak is inside the face
+        # the total: the sun's torque fixes sum F_k on a line grid exactly; on a zone grid
+        # up to the point arms' departure from r_b cos(beta_b) (_chain_bound, both solves)
+        tol = 1e-9 * m0["normal_force_N"]
+        if model == "zone":
+            tol += _chain_bound(plain, mesh) + _chain_bound(crowned, mesh)
+        else:
+            assert _chain_bound(plain, mesh) < tol
+        assert abs(m1["normal_force_N"] - m0["normal_force_N"]) <= tol
+    if model == "line":
+        # the largest initial gap: the crown at the outermost grid points, half a spacing in
+        assert 0.85 * 10.0 * UM < crowned["g0_max_abs_mm"] <= 10.0 * UM
 
 
 def _tilt_mismatch_um(pos: dict) -> dict[str, float]:
     """Per mesh, the change across the pinion face width of the drive-flank gap that the
     pinion's rigid tilt makes (um, + opening towards +z): n . (theta x (x - c)), theta the
-    bore's tilts about scene x and y, fitted linearly in z over the grid points (pinion on
-    side B of the sun mesh, side A of the ring mesh)."""
+    bore's tilts about scene x and y, fitted linearly in z over the stations (the points of
+    a line grid, the sections' points on the contact lines of a zone grid; pinion on side B
+    of the sun mesh, side A of the ring mesh)."""
     rig = pos["rigid"]
     theta = np.array([rig["pinion_rx"], rig["pinion_ry"], 0.0])
     c = np.asarray(pos["pinions"]["pinion"]["centre_mm"])
     out = {}
     for mesh, sign in (("sun-pinion", 1.0), ("pinion-ring", -1.0)):
         m = pos["meshes"][mesh]
-        x = np.asarray(m["points"]["x_mm"])
+        x = np.asarray(mesh_stations(m)["x_mm"])  # on the contact lines (zone: sections)
         dg = sign * np.cross(theta, x - c) @ np.asarray(m["normal"])
         out[mesh] = float(np.polyfit(x[:, 2], dg, 1)[0]) * PINION.face_width / UM
     return out
@@ -309,9 +346,12 @@ def test_lead_slope_against_the_tilt_recentres_the_pattern(gb, store):
     mis = _tilt_mismatch_um(gb)
     assert mis["sun-pinion"] < -15.0 and mis["pinion-ring"] > 15.0
     # removal slope on the pinion flank = -(gap change); pos flank (sun mesh) removes +f z/b,
-    # neg flank (ring mesh) -f z/b: both estimates of f agree within 20 %
+    # neg flank (ring mesh) -f z/b: both estimates of f agree within 30 % (the line model
+    # measured 27.0 / 23.4 um, 15 % apart; the zone model, the default, 28.2 / 22.7 um, 24 %
+    # apart: its local contact compliance lets the pinion tilt a little more towards the
+    # sun mesh; one slope, their mean, still re-centres both below)
     f_sun, f_ring = -mis["sun-pinion"], mis["pinion-ring"]
-    assert f_sun == pytest.approx(f_ring, rel=0.2)
+    assert f_sun == pytest.approx(f_ring, rel=0.3)
     f = 0.5 * (f_sun + f_ring)
     sloped = _solve("1-GB", _set({"pinion": {"lead_slope_um": f}}), store)
     assert gb["ZS"] < -3.0 and gb["ZR"] > 3.0
