@@ -35,3 +35,19 @@ def off_line_share(r: dict, sun: str = "sun") -> float:
         abs(m["transmitted_force_N"][m["driver"]] - m["transmitted_force_N"][m["driven"]])
         for m in mesh_records(r)
     ) / f0
+
+
+def chain_bound(r: dict, gears: list[str], k: int) -> float:
+    """How far (N) the sum F_k of mesh k (``gears[k]-gears[k+1]``, the gears in power-path
+    order from the sun) may lie from F_0 (:func:`sun_force`), the coast flanks open: the sun's
+    F_tr is F_0 (its moment equation), each pinion's F_tr is the same at its two meshes (its
+    spin equation), within a mesh the two gears' F_tr differ by at most the sum of their
+    ``off_line_N`` (the force-weighted departures of the point arms from r_b cos(beta_b)),
+    and sum F_k departs from a gear's F_tr by at most that gear's ``off_line_N``:
+
+        |sum F_k - F_0| <= sum_{j<k} (off_j[g_j] + off_j[g_j+1]) + off_k[g_k].
+
+    0 (round-off) on a line grid."""
+    assert r.get("coast_force_N", 0.0) == 0.0, "the chain holds with the coast flanks open"
+    off = [r["meshes"][f"{a}-{b}"]["off_line_N"] for a, b in zip(gears, gears[1:])]
+    return sum(off[j][gears[j]] + off[j][gears[j + 1]] for j in range(k)) + off[k][gears[k]]

@@ -8,9 +8,12 @@ import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from mpi4py import MPI
+from statics import chain_bound, gear_torque, off_line_share, sun_force
 
 from cases.study_case import load_study_case
 from studies.position import solve_position
@@ -30,6 +33,17 @@ def gb():
     return solve_position(load_study_case("2B-GB"), 0.0, MPI.COMM_WORLD, level=0)
 
 
+@pytest.fixture(scope="module")
+def ga_line():
+    """2B-GA on the line contact model (every force on a plane of action)."""
+    case = load_study_case("2B-GA")
+    case = replace(case, numerics=replace(case.numerics, contact_model="line"))
+    return solve_position(case, 0.0, MPI.COMM_WORLD, level=0)
+
+
+GEARS = ["sun", "SP", "RP", "ring"]  # the power path of the branch scene's bodies
+
+
 def carrier_torque_Nm(r: dict) -> float:
     """Torque about the scene axis the carrier exerts on SP and RP through their bearings
     (N m): minus the moment of the contact force on each pinion (``<p>_force_N`` in its frame,
@@ -42,36 +56,66 @@ def carrier_torque_Nm(r: dict) -> float:
     return total
 
 
-@pytest.mark.parametrize("name", ["ga", "gb"])
+@pytest.mark.parametrize("name", ["ga_line", "ga", "gb"])
 def test_torque_balance_and_ratio(name, request):
     """Pinions free to spin; ring / sun = Z_ring / Z_sun (carrier held, frictionless
-    involutes: the ratio is exact up to the small-rotation linearization); the carrier
-    carries T_sun (Z_ring / Z_sun - 1). (The sun torque balance holds by construction: the
-    sun rotation is a rigid unknown with its moment equation; not tested.)"""
+    involutes on the line grid: exact up to the small-rotation linearization; on the zone
+    grid, the default, within the off-line share, tests/statics.py); the carrier carries
+    T_sun (Z_ring / Z_sun - 1). The exact statics for any normals: the sun's moment equation
+    (a rigid unknown), the pinions' spin equations, the ring's support, and the balance of
+    the branch (carrier from the reported bearing forces, frames and centres), each from
+    the point forces F_k n_k at x_k, to round-off (1e-9; measured ~1e-15)."""
     r = request.getfixturevalue(name)
     for pn in ("SP", "RP"):
         # spin moment: rigid-unknown equation solved exactly; round-off of N mm sums
         assert abs(r[f"{pn}_spin_moment_Nm"]) < 1e-6 * T_BRANCH
         assert abs(r[f"Mz_{pn}"]) < 1e-6 * T_BRANCH
-    ratio = r["ring_contact_torque_Nm"] / -r["sun_contact_torque_Nm"]
-    assert ratio == pytest.approx(Z_RING / Z_SUN, rel=5e-3)
+        assert abs(gear_torque(r, pn) - r[f"{pn}_spin_moment_Nm"]) < 1e-9 * T_BRANCH
+    assert gear_torque(r, "sun") == pytest.approx(-T_BRANCH, rel=1e-9)
+    assert gear_torque(r, "sun") == pytest.approx(r["sun_contact_torque_Nm"], rel=1e-9)
+    assert gear_torque(r, "ring") == pytest.approx(r["ring_contact_torque_Nm"], rel=1e-9)
     assert r["ring_support_torque_Nm"] == pytest.approx(-r["ring_contact_torque_Nm"], rel=1e-9)
     assert r["resultant_mismatch_rel"] < 1e-9
-    # Carrier reaction of a double-pinion planetary with the carrier held: T_sun + T_ring +
-    # T_c = 0 with the ring turning with the sun, so T_c = T_sun (Z_ring / Z_sun - 1), on the
-    # sun's side. It needs both pinions' reported bearing forces, frames and centres to be
-    # right; the model imposes none of it. Measured to round-off (3e-16); bound as the ratio.
-    assert carrier_torque_Nm(r) == pytest.approx(T_BRANCH * (Z_RING / Z_SUN - 1), rel=5e-3)
+    # T_sun + T_ring + T_c = 0: the carrier from the reported bearing forces, frames and
+    # centres (the model imposes none of it)
+    assert carrier_torque_Nm(r) == pytest.approx(
+        -(T_BRANCH + r["ring_support_torque_Nm"]), rel=1e-9
+    )
+    # the closed forms (the ring turns with the sun, so T_c = T_sun (Z_ring / Z_sun - 1), on
+    # the sun's side): on the line grid 0.5 % (linearization; measured round-off), on the
+    # zone grid within the off-line share (a bound, attained where every mesh shifts the
+    # same way: 2B-GA measured 5.0e-3 against a ratio 5.0e-3 low)
+    off = off_line_share(r)
+    if name == "ga_line":
+        assert off < 1e-12
+        tol = 5e-3
+    else:
+        assert 1e-4 < off < 2e-2
+        tol = off + 1e-9
+    ratio = r["ring_contact_torque_Nm"] / -r["sun_contact_torque_Nm"]
+    assert abs(ratio / (Z_RING / Z_SUN) - 1) <= tol
+    # T_c = T_ring - T_sun moves by the ratio's departure times Z_ring / (Z_ring - Z_sun)
+    closed = T_BRANCH * (Z_RING / Z_SUN - 1)
+    assert abs(carrier_torque_Nm(r) / closed - 1) <= tol * Z_RING / (Z_RING - Z_SUN)
 
 
-@pytest.mark.parametrize("name", ["ga", "gb"])
+@pytest.mark.parametrize("name", ["ga_line", "ga", "gb"])
 def test_axial_force_signs_match_closed_form(name, request):
     """In the pinion frames (Z = -z) the FE axial mesh forces have the section-5 signs and
-    magnitudes: FzSUN = -FzRP = FzSP = -FzRING = FA (a force balance, so to round-off)."""
+    magnitudes: FzSUN = -FzRP = FzSP = -FzRING = FA. Every point force of a mesh has the
+    same axial part n_z F_k (zone cells too: their normals are turned about the axis), so
+    Fz = n_z sum F_k: on the line grid sum F_k = F_0 at every mesh (a force balance, to
+    round-off: 1e-6), on the zone grid within the chain of the point arms' departures
+    (tests/statics.py chain_bound; 2B-GA measured 0.09-0.45 %)."""
     r = request.getfixturevalue(name)
     a = r["analytic"]
+    f0 = sun_force(r)
+    mesh = {"FzSUN": 0, "FzSP": 1, "FzRP": 1, "FzRING": 2}  # the mesh of each force
     for key in ("FzSUN", "FzRP", "FzSP", "FzRING"):
-        assert r[f"{key}_fe"] == pytest.approx(a[key], rel=1e-6)
+        tol = 1e-6 + chain_bound(r, GEARS, mesh[key]) / f0
+        if name == "ga_line":
+            assert chain_bound(r, GEARS, mesh[key]) < 1e-9 * f0
+        assert r[f"{key}_fe"] == pytest.approx(a[key], rel=tol)
     assert a["FzSUN"] > 0 and a["FzSP"] > 0 and a["FzRP"] < 0 and a["FzRING"] < 0
 
 
