@@ -255,6 +255,12 @@ def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face,
     (an axial offset puts opposite moments on SP and RP), its s term cancels (the centroid
     moves along the line of action by +s from one pinion and -s from the other).
 
+    ``from_cells`` = D_fe - sum of the sides' D: the moment of the point forces about their
+    centroid, sum_k (x_k - x_bar) x F_k n_k, which the one-force reading leaves out. 0
+    (round-off) on a line grid, whose forces share one direction; a zone grid's cells off
+    the line carry their own normals (:func:`solvers.flank_grid.contact_normals`), so there
+    it is the cells' share, and D_fe = D_pitch + from_Z + from_s + other + from_cells.
+
     ``misalignment_um``: the relative tilt of RP against SP about u (the bearing tilts)
     times the smaller face width; ``Z_lines_<side>``: the centroid of the theoretical contact
     lines themselves (what a uniform line load would give at this mesh position): the mean Z
@@ -295,6 +301,7 @@ def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face,
         "from_Z": sum(v["from_Z"] for v in sides.values()),
         "from_s": sum(v["from_s"] for v in sides.values()),
         "other": sum(v["other"] for v in sides.values()),
+        "from_cells": d_fe - sum(v["D"] for v in sides.values()),
         "sides": sides,
         "u": u.tolist(),
         "relative_tilt_rad": rel,

@@ -13,8 +13,9 @@ pinion_frame`):
 Per mesh m (a contact grid "driver-driven"): the normal force, the grid points and the
 stations (:func:`grid_record`), and for each pinion in the mesh the mesh force on it,
 sum_k F_k n_k over the grid points (+ if the pinion is driven, - if it drives: n_k points
-from driver to driven; a zone grid's points carry the driver's flank normal there, turned
-off the contact line, so the force is not (sum F_k) n), the load-centroid
+from driver to driven; a zone grid's points carry their own contact normals,
+:func:`solvers.flank_grid.contact_normals`, turned off the contact line, so the force is not
+(sum F_k) n), the load-centroid
 axial offset Z = sum F_k Z_k / sum F_k (mm from mid face width, Z along e_Z of that pinion,
 over the grid points: the cells of a zone grid) and the centroid vector from the pinion
 centre.

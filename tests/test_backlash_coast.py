@@ -351,10 +351,9 @@ def test_coast_flanks_stay_open_under_normal_bearings(ga, gb):
 
 
 def _point_normals(scene, g: dict, coast: bool) -> np.ndarray:
-    """The normal of every point of a mesh (or coast) record: the driver's exact flank normal
-    at the point (``x_mm``, on the driver's flank), the normal the grid carries there (on a
-    contact line the plane of action's, off it turned about the axis; tested to 1e-9 in
-    test_contact_zone). The gradient of the exact normal distance by the fourth-order central
+    """The driver's exact flank normal at every point of a line-grid mesh (or coast) record
+    (``x_mm``, on the driver's flank): the plane of action's, the normal the line grid
+    carries (zone cells carry their own, tested to 1e-9 in test_contact_zone). The gradient of the exact normal distance by the fourth-order central
     difference, step 1e-3 mm: error ~1e-11 (measured 2e-12 .. 6e-12 on these gears)."""
     zn = next(z for z in scene.zones if (z.driver, z.driven) == (g["driver"], g["driven"]))
     pg = scene.gear(zn.driver)
