@@ -545,9 +545,7 @@ def zone_grid(
                        or [np.full(m_z, np.inf)], axis=0)  # fmt: skip
     limit = g_ref + gap_limit
     # pass 2: cells of each section where g0 < limit
-    fine: dict[str, list] = {
-        key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp", "corner")
-    }
+    fine: dict[str, list] = {key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp", "corner")}
     coarse: dict[str, list] = {key: [] for key in ("z", "t", "tz", "v", "grp")}
     lines = []
     n_fine = 0

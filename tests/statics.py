@@ -2,6 +2,8 @@
 the mesh records of postprocess.train_results (``torque_Nm``, ``transmitted_force_N``,
 ``off_line_N`` per gear of every drive and coast mesh)."""
 
+from itertools import pairwise
+
 
 def mesh_records(r: dict) -> list[dict]:
     """Every mesh record of a position, drive and coast."""
@@ -31,10 +33,13 @@ def off_line_share(r: dict, sun: str = "sun") -> float:
     r_sun = sum_m (phi_A + phi_B) and |T_ring r_b,sun / (T_sun r_b,ring) + 1| <= this share
     (triangle inequality; attained when every mesh shifts the same way)."""
     f0 = sun_force(r, sun)
-    return sum(
-        abs(m["transmitted_force_N"][m["driver"]] - m["transmitted_force_N"][m["driven"]])
-        for m in mesh_records(r)
-    ) / f0
+    return (
+        sum(
+            abs(m["transmitted_force_N"][m["driver"]] - m["transmitted_force_N"][m["driven"]])
+            for m in mesh_records(r)
+        )
+        / f0
+    )
 
 
 def chain_bound(r: dict, gears: list[str], k: int) -> float:
@@ -49,5 +54,5 @@ def chain_bound(r: dict, gears: list[str], k: int) -> float:
 
     0 (round-off) on a line grid."""
     assert r.get("coast_force_N", 0.0) == 0.0, "the chain holds with the coast flanks open"
-    off = [r["meshes"][f"{a}-{b}"]["off_line_N"] for a, b in zip(gears, gears[1:])]
+    off = [r["meshes"][f"{a}-{b}"]["off_line_N"] for a, b in pairwise(gears)]
     return sum(off[j][gears[j]] + off[j][gears[j + 1]] for j in range(k)) + off[k][gears[k]]

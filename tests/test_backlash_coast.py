@@ -352,9 +352,10 @@ def test_coast_flanks_stay_open_under_normal_bearings(ga, gb):
 
 def _point_normals(scene, g: dict, coast: bool) -> np.ndarray:
     """The driver's exact flank normal at every point of a line-grid mesh (or coast) record
-    (``x_mm``, on the driver's flank): the plane of action's, the normal the line grid
-    carries (zone cells carry their own, tested to 1e-9 in test_contact_zone). The gradient of the exact normal distance by the fourth-order central
-    difference, step 1e-3 mm: error ~1e-11 (measured 2e-12 .. 6e-12 on these gears)."""
+    (``x_mm``, on the driver's flank): the plane of action's, the normal the line grid carries (zone
+    cells carry their own, tested to 1e-9 in test_contact_zone). The gradient of the exact normal
+    distance by the fourth-order central difference, step 1e-3 mm: error ~1e-11 (measured 2e-12 ..
+    6e-12 on these gears)."""
     zn = next(z for z in scene.zones if (z.driver, z.driven) == (g["driver"], g["driven"]))
     pg = scene.gear(zn.driver)
     side = zn.coast_sides[0] if coast else zn.driver_side

@@ -12,9 +12,8 @@ import io
 import json
 import math
 import time
-from pathlib import Path
-
 from dataclasses import replace
+from pathlib import Path
 
 import pytest
 from mpi4py import MPI

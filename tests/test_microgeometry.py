@@ -286,12 +286,13 @@ def _chain_bound(pos: dict, mesh: str) -> float:
 
 @pytest.mark.parametrize("model", ["line", "zone"])
 def test_lead_crown_pulls_the_load_off_the_face_ends(ga, ga_line, store, model):
-    """A 10 um lead crown on the pinion (both flanks, so both meshes) unloads the face ends
-    of the aligned 1-GA: the mean line load of the end stations falls to about half at the
-    sun mesh and a third at the ring mesh (line model: measured 789 -> 388 and 497 -> 143
-    N/mm; zone model 370 -> 211 and 172 -> 76 N/mm: its local contact compliance already
-    spreads the end load), the peak moves inside, the total is unchanged (the zone grid's sections differ with the crown: their cells are laid where
-    g0, the crown included, is below the gap limit; the sections along the face do not)."""
+    """A 10 um lead crown on the pinion (both flanks, so both meshes) unloads the face ends of the
+    aligned 1-GA: the mean line load of the end stations falls to about half at the sun mesh and a
+    third at the ring mesh (line model: measured 789 -> 388 and 497 -> 143 N/mm; zone model 370 ->
+    211 and 172 -> 76 N/mm: its local contact compliance already spreads the end load), the peak
+    moves inside, the total is unchanged (the zone grid's sections differ with the crown: their
+    cells are laid where g0, the crown included, is below the gap limit; the sections along the face
+    do not)."""
     plain = ga_line if model == "line" else ga
     crowned = _solve("1-GA", _set({"pinion": {"lead_crown_um": 10.0}}), store, model)
     b = min(PINION.face_width, CASE1.gears["sun"].face_width)
