@@ -1,8 +1,9 @@
 """The zone contact model through the study driver (issue 11): a case-1 study with
 ``[numerics] contact_model = "zone"`` (the default) runs like the line model, its results say
 what a zone grid is (cells with their pressure, line loads per section), its moments agree
-with the line model's, its interior contact stress is the Hertz stress of its sections' line loads, the
-corner contact of the sharp tips lands in the edge indicator, and its pattern renders.
+with the line model's, its interior contact stress is the Hertz stress of its sections'
+line loads, the corner contact of the sharp tips lands in the edge indicator, and its
+pattern renders.
 
 Level 0, one mesh position (roll 0), both models solved with one set of body factorizations.
 """
