@@ -4,8 +4,8 @@
         [--out results/meshes] [--level 1]
 
 For every gear set (``cases/gearsets/<name>.toml`` or a path) and scene of the registry
-(:data:`meshing.scenes.SCENES`; ``--carrier`` adds the carrier body (its pins: one per pinion of every branch) as
-an extra variant), named ``<gearset>-<scene>[-carrier]``: the mesh (cached in .cache/meshes
+(:data:`meshing.scenes.SCENES`; ``--carrier`` adds the carrier body, one pin per pinion of
+every branch, as an extra variant), named ``<gearset>-<scene>[-carrier]``: the mesh (cached in .cache/meshes
 or $PLANETARY_CACHE), a picture ``<out>/<scene>-L<level>.png`` and
 ``<out>/<scene>-L<level>.json`` (scene report: bodies, placements, teeth in mesh, drive
 and coast flanks, what was left out; mesh statistics).
