@@ -5,8 +5,8 @@
 
 For every gear set (``cases/gearsets/<name>.toml`` or a path) and scene of the registry
 (:data:`meshing.scenes.SCENES`; ``--carrier`` adds the carrier body, one pin per pinion of
-every branch, as an extra variant), named ``<gearset>-<scene>[-carrier]``: the mesh (cached in .cache/meshes
-or $PLANETARY_CACHE), a picture ``<out>/<scene>-L<level>.png`` and
+every branch, as an extra variant), named ``<gearset>-<scene>[-carrier]``: the mesh (cached
+in .cache/meshes or $PLANETARY_CACHE), a picture ``<out>/<scene>-L<level>.png`` and
 ``<out>/<scene>-L<level>.json`` (scene report: bodies, placements, teeth in mesh, drive
 and coast flanks, what was left out; mesh statistics).
 Runs under MPI too (the mesh is built on rank 0; files are written on rank 0 only).
