@@ -123,6 +123,15 @@ bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/
 # Contact models (issue 11): line grid against zone grid on 1-GA and 1-GC at level 0, one
 # position, penalty factor swept over three decades; cost per position, line-end loads and
 # fine-grid pressure against Hertz.
+# Root stress against the fillet size alone (issue 13 item 1): flanks and body of one level,
+# the fillets of the loaded teeth refined; peaks at 7 GB at level 1 with 0.12 mm fillets.
+FILLETS ?= 0.45 0.3 0.2 0.15 0.12
+.PHONY: fillet-study
+fillet-study: $(STAMP) ## root stress against fillet size: results/fillet/<case>/fillet_L1_loaded.{json,md}
+	@[ -n "$(CASE)" ] || { echo "error: give the case: make fillet-study CASE=1-GB" >&2; exit 2; }
+	$(PY) -m studies.fillet_study $(CASE) --level 1 --fillets $(FILLETS) --loaded-only \
+	  --out $(RESULTS)/fillet
+
 # The bodies' linear solvers (issue 13 item 5): exact MUMPS LU, block low-rank MUMPS and
 # CG/GAMG on one 1-GB position per level; time, peak memory and the change of every result.
 LINEAR_LEVELS ?= 1 2

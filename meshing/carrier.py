@@ -48,6 +48,10 @@ from meshing.sizing import MeshingError
 
 MESHER_VERSION = "carrier-2"  # 2: plate hubs tagged
 MIN_POST_CLEARANCE = 1.0  # mm between a post and a pinion's tip circle (as plate_gap)
+# mm of plate kept between a post and the plates' inner and outer rims: a post tangent to a
+# rim (the best clearance to the pinions often lies there) leaves a knife-edge of plate that
+# meshes into slivers (minimum SICN 0.002 on the case-2 carrier, which no optimiser repairs)
+POST_RIM_MARGIN = 2.0
 
 
 @dataclass(frozen=True)
@@ -254,13 +258,13 @@ def place_posts(spec: CarrierSpec, branches: list[list[int]], tips: list[float],
     centres = np.array(spec.pin_centres())
     tips_a = np.asarray(tips, float)
     angles = np.array([math.atan2(c[1], c[0]) for c in centres])
-    r_lo = spec.plate_inner_radius + spec.post_radius + 1e-6
-    r_hi = spec.plate_outer_radius - spec.post_radius - 1e-6
+    r_lo = spec.plate_inner_radius + spec.post_radius + POST_RIM_MARGIN
+    r_hi = spec.plate_outer_radius - spec.post_radius - POST_RIM_MARGIN
     if r_hi <= r_lo:
         raise MeshingError(
             f"carrier.post_radius = {spec.post_radius!r}: a post does not fit between the plates' "
             f"inner ({spec.plate_inner_radius:.2f} mm) and outer ({spec.plate_outer_radius:.2f} "
-            "mm) radii"
+            f"mm) radii with {POST_RIM_MARGIN:g} mm of plate each side"
         )
     radii = np.linspace(r_lo, r_hi, samples)
     posts = []

@@ -98,7 +98,9 @@ def bench(args) -> Path:
         try:
             tolerances[kind] = float(val)
         except ValueError:
-            raise InputError(f"--tolerances {item!r}: give SOLVER:VALUE, e.g. mumps-blr:1e-6")
+            raise InputError(
+                f"--tolerances {item!r}: give SOLVER:VALUE, e.g. mumps-blr:1e-6"
+            ) from None
     for s in args.solvers:
         Numerics(**_solver_numerics(s, tolerances))  # CaseError names the field
     solvers = ["mumps"] + [s for s in args.solvers if s != "mumps"]

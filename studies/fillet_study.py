@@ -2,7 +2,7 @@
 the fillet size of the active teeth refined (:func:`meshing.sizing.with_fillet`).
 
     python -m studies.fillet_study 1-GB [--level 1] [--fillets 0.45 0.35 0.3 0.25]
-        [--p2 0.3 ...] [--roll 0] [--loaded-only] [--out /tmp/fillet_C] [--timeout 3600]
+        [--p2 0.3 ...] [--roll 0] [--loaded-only] [--out results/fillet] [--timeout 3600]
 
 ``--loaded-only`` refines only the tension fillets of the teeth loaded at that position
 (:func:`loaded_fillets_only`, ``GearBody.fine_fillets``); the other fillets of the active
@@ -185,7 +185,7 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--p2", type=float, nargs="*", default=[], help="fillet sizes of P2 runs")
     ap.add_argument("--roll", type=float, default=0.0, help="sun angle (rad)")
-    ap.add_argument("--out", type=Path, default=Path("/tmp/fillet_C"))
+    ap.add_argument("--out", type=Path, default=Path("results/fillet"))
     ap.add_argument("--timeout", type=float, default=3600.0, help="per run (s)")
     ap.add_argument(
         "--loaded-only",

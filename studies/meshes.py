@@ -4,9 +4,9 @@
         [--out results/meshes] [--level 1]
 
 For every gear set (``cases/gearsets/<name>.toml`` or a path) and scene of the registry
-(:data:`meshing.scenes.SCENES`; ``--carrier`` adds the carrier body to single-pinion scenes as
-an extra variant), named ``<gearset>-<scene>[-carrier]``: the mesh (cached in .cache/meshes
-or $PLANETARY_CACHE), a picture ``<out>/<scene>-L<level>.png`` and
+(:data:`meshing.scenes.SCENES`; ``--carrier`` adds the carrier body, one pin per pinion of
+every branch, as an extra variant), named ``<gearset>-<scene>[-carrier]``: the mesh (cached
+in .cache/meshes or $PLANETARY_CACHE), a picture ``<out>/<scene>-L<level>.png`` and
 ``<out>/<scene>-L<level>.json`` (scene report: bodies, placements, teeth in mesh, drive
 and coast flanks, what was left out; mesh statistics).
 Runs under MPI too (the mesh is built on rank 0; files are written on rank 0 only).
@@ -57,7 +57,7 @@ def main(argv=None) -> int:
         gs = load_gearset(gs_name)
         for kind in args.scenes:
             jobs.append((f"{gs.name}-{kind}", gs, kind, {}))
-            if args.carrier and gs.kind == "single_pinion":
+            if args.carrier:
                 jobs.append((f"{gs.name}-{kind}-carrier", gs, kind, {"carrier": True}))
     for name, gs, kind, options in jobs:
         scene = build_scene(kind, gs, args.roll, **options)

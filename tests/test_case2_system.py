@@ -19,9 +19,15 @@ from system_case import as_system
 from cases.gearset import load_gearset
 from cases.study_case import load_study_case
 from meshing import tags as T
-from meshing.carrier import MIN_POST_CLEARANCE, carrier_spec, place_posts
+from meshing.carrier import (
+    MIN_POST_CLEARANCE,
+    POST_RIM_MARGIN,
+    carrier_mesh_file,
+    carrier_spec,
+    place_posts,
+)
 from meshing.scenes import build_scene, pinion_bore_radius
-from meshing.sizing import MeshingError
+from meshing.sizing import MIN_SICN, MeshingError
 from solvers.gear_train import branch_pin_errors
 from studies.position import solve_position
 
@@ -79,8 +85,9 @@ def test_case2_posts_clear_every_pinion(case2):
                  for c, t in zip(spec.pin_centres(), tips, strict=True)]  # fmt: skip
         assert min(clear) >= MIN_POST_CLEARANCE
         r = np.hypot(*p)
-        assert spec.plate_inner_radius < r - spec.post_radius
-        assert r + spec.post_radius < spec.plate_outer_radius
+        # a post tangent to a rim leaves a knife-edge of plate (slivers): POST_RIM_MARGIN kept
+        assert spec.plate_inner_radius + POST_RIM_MARGIN <= r - spec.post_radius + 1e-9
+        assert r + spec.post_radius + POST_RIM_MARGIN <= spec.plate_outer_radius + 1e-9
     assert spec.plate_inner_radius > case2.gears["sun"].tip_radius
     assert spec.plate_outer_radius < case2.gears["ring"].tip_radius
     # one pin diameter serves both pinions: the bores leave a rim below the root circles
@@ -253,3 +260,12 @@ def test_system_report_double_pinion(tmp_path):
     assert "Zr - Zs = 57 is divisible by 3" in text
     assert "45.002 deg ahead" in text  # RP pins: the triangle's angle at the sun
     assert "M_LOA_sun_SP -20.0" in text and "-300 urad" in text
+
+
+@pytest.mark.parametrize("gearset", ["case1", "case2"])
+def test_carrier_meshes_meet_the_quality_floor(gearset):
+    """Every carrier mesh keeps the stated minimum element quality (meshing.sizing.MIN_SICN).
+    Before the posts kept POST_RIM_MARGIN from the rims, the case-2 posts touched the outer
+    rim and the mesh had slivers of SICN 0.002 (level 0) and 0.067 (level 1)."""
+    _, meta = carrier_mesh_file(carrier_spec(load_gearset(gearset)), 0)
+    assert meta["min_sicn"] >= MIN_SICN
