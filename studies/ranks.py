@@ -10,7 +10,8 @@ take the same branch (record the failure and go on, or stop).
 A rank that failed while the others are blocked inside a collective call of the step it
 left (a MUMPS factorization, a mesh broadcast) cannot be reached by any message. It waits
 for them at most :data:`DEFAULT_TIMEOUT_S` seconds (``PLANETARY_RANK_TIMEOUT`` overrides),
-then prints its error and aborts the whole job with exit code
+then prints its error (and appends it to ``log``, if given: mpiexec may drop the last
+output of a job it aborts) and aborts the whole job with exit code
 :data:`EXIT_RANKS_OUT_OF_STEP`: finished results stay on disk, nothing hangs.
 
 The agreement runs on a duplicate of the communicator, so it never matches a collective
@@ -22,6 +23,7 @@ from __future__ import annotations
 import os
 import sys
 import time
+from pathlib import Path
 
 #: exit code of a job aborted because its ranks could not agree (documented in README.md)
 EXIT_RANKS_OUT_OF_STEP = 4
@@ -33,6 +35,10 @@ EXIT_RANKS_OUT_OF_STEP = 4
 # the level-3 one-branch scene, meshing.sizing; more for larger scenes), hence 120 s.
 DEFAULT_TIMEOUT_S = 120.0
 _POLL_S = 0.01
+# Pause between printing the error and MPI_Abort: the rank's stderr goes through a pipe to
+# mpiexec's proxy, which is killed by the abort; without the pause a loaded machine lost the
+# message (CI, 2 cores). One second is ample for the proxy to forward one line.
+_FLUSH_S = 1.0
 
 
 def rank_timeout() -> float:
@@ -49,8 +55,9 @@ class Ranks:
     """Failure agreement over ``comm`` (collective to create: every rank must construct it
     at the same point)."""
 
-    def __init__(self, comm, timeout: float | None = None):
+    def __init__(self, comm, timeout: float | None = None, log: Path | None = None):
         self.comm = comm
+        self.log = log
         self.timeout = rank_timeout() if timeout is None else float(timeout)
         self._side = comm.Dup() if comm.size > 1 else None
 
@@ -73,13 +80,22 @@ class Ranks:
 
     def _abort(self, failure, what: str) -> None:
         message = failure[0] if isinstance(failure, tuple) else failure
-        sys.stderr.write(
+        line = (
             f"error: rank {self.comm.rank}: {what}: {message}; the other ranks did not reach "
             f"the same point within {self.timeout:g} s (they wait in a collective call this "
             f"rank left), so the job is aborted (exit code {EXIT_RANKS_OUT_OF_STEP}); "
             "finished results are kept\n"
         )
+        if self.log is not None:
+            try:
+                self.log.parent.mkdir(parents=True, exist_ok=True)
+                with open(self.log, "a", encoding="utf-8") as f:
+                    f.write(line)
+            except OSError:
+                pass  # the message still goes to stderr
+        sys.stderr.write(line)
         sys.stderr.flush()
+        time.sleep(_FLUSH_S)
         self.comm.Abort(EXIT_RANKS_OUT_OF_STEP)
 
     def free(self) -> None:

@@ -466,7 +466,7 @@ def parse_args(argv=None) -> argparse.Namespace:
 def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
     args = parse_args(argv)
     progress = Progress(comm, quiet=args.quiet)
-    ranks = Ranks(comm)
+    ranks = Ranks(comm, log=Path(args.out) / "aborted.log")
     store = BodyStore(reuse=not args.no_reuse)  # bodies factorized once for all cases
     status = EXIT_OK
     try:
