@@ -45,7 +45,7 @@ from gears.analytic.planetary import (
 )
 from gears.spec import GearSpec
 from postprocess.convergence import convergence_links, plus_minus, uncertainty_note
-from postprocess.stress_tables import contact_section, root_section
+from postprocess.stress_tables import contact_definition, contact_section, root_section
 
 #: the four LOA moments (issue-12 names), with the mesh and the pinion each belongs to
 LOA = (
@@ -335,11 +335,12 @@ def _stress_section(runs: dict) -> list[str]:
         "",
         "## Stresses (MPa)",
         "",
-        "Contact: Hertz line contact with the exact curvatures and the FE line load at each",
-        "grid point, over the mesh cycle; `interior` is the stress to quote, `edge` the",
-        "largest at line ends (tip, form and face corners: no relief is modelled, an edge-load",
-        "indicator); K_Hbeta = w_max / w_mean over the interior points; ISO 6336-2 sigma_H0 at",
-        "the pitch point (K factors 1) and sigma_H0 sqrt(K_Hbeta).",
+        *contact_definition(runs),
+        "`interior` is the stress to quote, `edge` the largest at the edges (tip, form and",
+        "face corners: the teeth have sharp tips and no relief is modelled, an edge-load",
+        "indicator that grows with refinement); K_Hbeta = w_max / w_mean over the interior",
+        "points; ISO 6336-2 sigma_H0 at the pitch point (K factors 1) and sigma_H0",
+        "sqrt(K_Hbeta).",
         "",
         "| case | mesh | interior max | edge max | K_Hbeta | ISO sigma_H0 | sigma_H0 sqrt(K_Hbeta)"
         " |",

@@ -140,14 +140,38 @@ def _root_differences(ratios: list[float], tang: list[float], s: dict) -> list[s
     return out
 
 
+def contact_definition(runs: dict[str, dict]) -> list[str]:
+    """Markdown lines saying what the FE contact stress of these runs is: the zone grid's
+    solved cell pressure or the line grid's Hertz stress at each point's line load (by the
+    ``grid_model`` of their ``contact_stress_cycle`` records)."""
+    models = {
+        c.get("grid_model", "line")
+        for s in runs.values()
+        for c in (s.get("contact_stress_cycle") or {}).values()
+    }
+    zone = [
+        "FE (zone grid): the solved contact pressure of each grid cell (half-space near field",
+        "over the whole contact zone), largest over the interior cells of the mesh cycle",
+        "(cells at a tip or form circle or a face end are edge loads, left out).",
+    ]
+    line = [
+        "FE (line grid): Hertz line contact with the exact curvatures under the FE line load",
+        "of each grid point (the grid's contact force per contact-line length), largest over",
+        "the interior points of the mesh cycle (line ends and tip/form points are edge loads).",
+    ]
+    if models == {"line"}:
+        return line
+    if models == {"zone"}:
+        return zone
+    return zone + line
+
+
 def contact_section(runs: dict[str, dict], meshes, order) -> list[str]:
     """Markdown lines: FE contact stress against ISO 6336-2 and Hertz at the pitch point."""
     lines = [
         "## Contact stress: FE against ISO 6336-2 and Hertz (MPa)",
         "",
-        "FE: Hertz line contact with the exact curvatures under the FE line load of each grid",
-        "point (the grid's contact force per contact-line length), largest over the interior",
-        "points of the mesh cycle (line ends and tip/form points are edge loads, left out).",
+        *contact_definition(runs),
         "Hertz at C: the pitch point's curvature under the FE's largest and mean interior line",
         "load. ISO 6336-2 method B at the pitch point, K factors 1 (sigma_H0), and with the",
         "FE's K_Hbeta = w_max / w_mean (sigma_H0 sqrt(K_Hbeta)); Hertz at C under ISO's mean",
