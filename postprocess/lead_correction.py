@@ -201,7 +201,7 @@ def report(data: dict) -> str:
         if g == "locations":
             continue
         lines.append(
-            f"| FE root stress {g} (MPa, mean of position maxima) | "
+            f"| FE root stress {g} (MPa, maximum over the cycle) | "
             f"{_f(before['root_MPa'].get(g), '.0f')} | {_f(after['root_MPa'].get(g), '.0f')} | |"
         )
     lines.append(
