@@ -849,10 +849,11 @@ def _why_not(c: dict, data: dict) -> list[str]:
         f"{kk[k]['k_plane_N_per_mm'] / kk[k]['closed_form_N_per_mm'] - 1:+.2%}" for k in KINDS
     )
     text = [
-        "F_rad splits into its on-plane part, the mesh's normal force along the plane of "
-        "action's normal (F_bt sin(alpha_wt), the closed form's premise), and the rest, the "
-        "radial force the cells carry because their contact normals are turned off the plane "
-        f"(external / internal). At d = 0 the rest is {both('off_plane_force_N', '+.1f')} N, "
+        "Values external / internal. F_rad splits into its on-plane part, the mesh's normal "
+        "force along the plane of action's normal (F_bt sin(alpha_wt), the closed form's "
+        "premise), and the rest, the radial force the cells carry because their contact "
+        "normals are turned off the plane. At d = 0 the rest is "
+        f"{both('off_plane_force_N', '+.1f')} N, "
         f"{both('off_plane_share', '.1%')} of F_rad. Its share of k_r(h = {_um(h0)}) is "
         f"{both('k_off_N_per_mm', '+.1f')} N/mm; the on-plane part gives "
         f"{both('k_plane_N_per_mm', '+.1f')} N/mm, {plane_rel} on the closed form (the FE "
@@ -891,8 +892,8 @@ def _why_not(c: dict, data: dict) -> list[str]:
             + " N"
         )
     text[-1] += (
-        ". So the central differences measure the grid's cell set as well as the geometric "
-        "stiffness, hence the step and position dependence. A straight line through the whole "
+        ". So central differences over a few um see the grid's discrete cell set as well as "
+        "the geometric stiffness. A straight line through the whole "
         f"sweep gives k_r = {both('k_fit_N_per_mm', '+.1f')} N/mm ("
         + " / ".join(
             f"{kk[k]['k_fit_N_per_mm'] / kk[k]['closed_form_N_per_mm'] - 1:+.1%}" for k in KINDS
