@@ -177,7 +177,7 @@ bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-
 
 # The radial mesh stiffness of the case-1 meshes from the FE (pust2016), level 0, with the case's
 # contact model (zone) and with the line model, the closed form's premise (forces on the plane
-# of action), in line/ (about 1.5 min each).
+# of action), in line/ (about 4 min for both on 2 busy cores).
 .PHONY: radial-stiffness phasing
 radial-stiffness: $(STAMP) ## FE radial mesh stiffness, floating-sun threshold: results/radial_stiffness/
 	$(PY) -m studies.radial_stiffness --case 1-GB --level 0 --out $(RESULTS)/radial_stiffness
