@@ -175,10 +175,14 @@ convergence-main: $(STAMP)
 bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
 	@$(MAKE) --no-print-directory convergence CASE=1-GB CONV_EXTRA=0:2
 
-# The radial mesh stiffness of the case-1 meshes from the FE (pust2016), level 0 (about 1 min).
+# The radial mesh stiffness of the case-1 meshes from the FE (pust2016), level 0, with the case's
+# contact model (zone) and with the line model, the closed form's premise (forces on the plane
+# of action), in line/ (about 4 min for both on 2 busy cores).
 .PHONY: radial-stiffness phasing
 radial-stiffness: $(STAMP) ## FE radial mesh stiffness, floating-sun threshold: results/radial_stiffness/
 	$(PY) -m studies.radial_stiffness --case 1-GB --level 0 --out $(RESULTS)/radial_stiffness
+	$(PY) -m studies.radial_stiffness --case 1-GB --level 0 --contact-model line \
+	  --out $(RESULTS)/radial_stiffness/line
 
 # Planet phasing (parker2000): 3 equally spaced planets, and 4 at 0/91.4/180/271.4 deg (snapped
 # to the assemblable 91.43, 271.43), all-planet scene, 12 positions over one mesh cycle, level 0

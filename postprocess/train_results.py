@@ -51,7 +51,8 @@ them up over the meshes; :func:`coast_summary` over the positions of a study.
 Per mesh (drive and coast), ``torque_Nm`` and ``transmitted_force_N`` by gear
 (:func:`mesh_torques`): the moment of the mesh's point forces about each gear's axis, that
 moment over the gear's r_b cos(beta_b), and ``off_line_N``, how far the points' arms depart
-from r_b cos(beta_b) (0 on a line grid).
+from r_b cos(beta_b) (0 on a line grid). Zone grids (drive flanks): ``corner_cells``, the
+cells that reach a tip circle (:func:`corner_cells`: count, loaded count, force).
 
 Torques about the scene axis: applied sun torque, sun and ring contact torques, ring support
 reaction (their balance is a check the solver does not impose).
@@ -192,7 +193,17 @@ def mesh_torques(model, zone, grid, F) -> dict:
     return {"torque_Nm": torque, "transmitted_force_N": force, "off_line_N": off}
 
 
-def _mesh(model, result, index: int, zone, lines: list[dict]) -> dict:
+def corner_cells(corner, F: np.ndarray) -> dict:
+    """The cells of a zone grid that reach a tip circle (``corner``: the
+    :class:`solvers.flank_grid.FlankGridInfo` bit flags; their contact normal is the other
+    flank's, off the plane of action): how many, how many carry load, and their force (N)."""
+    on = np.asarray(corner, int) != 0
+    F = np.asarray(F, float)
+    return {"points": int(on.sum()), "active_points": int(np.count_nonzero(F[on] > 0)),
+            "force_N": float(F[on].sum())}  # fmt: skip
+
+
+def _mesh(model, result, index: int, zone, lines: list[dict], corner=None) -> dict:
     p = model.problem
     sl = slice(p.offsets[index], p.offsets[index + 1])
     F = result.forces[sl]
@@ -210,6 +221,8 @@ def _mesh(model, result, index: int, zone, lines: list[dict]) -> dict:
         **mesh_torques(model, zone, g, F),
         "on": {},
     }
+    if corner is not None:  # zone grids: the tip-corner cells
+        out["corner_cells"] = corner_cells(corner, F)
     for pn, sgn in ((zone.driver, -1.0), (zone.driven, +1.0)):
         if pn not in model.frames:
             continue
@@ -305,7 +318,8 @@ def train_results(model, result) -> dict:
             lines = model.coast_grids[mesh_name(name)][1].lines
             coast[mesh_name(name)] = _coast(model, result, i, zones[mesh_name(name)], lines)
         else:
-            meshes[name] = _mesh(model, result, i, zones[name], model.grids[name][1].lines)
+            info = model.grids[name][1]
+            meshes[name] = _mesh(model, result, i, zones[name], info.lines, info.corner)
     out = {
         "pinions": {pn: _pinion(model, result, pn, res) for pn in model.pinions},
         "meshes": meshes,
