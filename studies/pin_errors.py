@@ -9,7 +9,8 @@ error (um, tangential along the sun's rotation or radial; the other pins exact).
 enters as the rest offset of that pinion's bearing springs (:mod:`solvers.gear_train`), so
 every solve reuses the same body factorizations. Each sun radial support stiffness given is
 a series of its own (0: floating; a floating sun with three planets shares the load by
-statics alone, so no pin error changes the shares; a supported sun does not). Writes
+statics, so a pin error barely changes the shares, exactly not for forces on the planes of
+action; a supported sun does not). Writes
 ``pin_errors.json`` (per support and error: the load shares, K_gamma = largest share, the
 moments of each pinion) and ``pin_errors.png``.
 """
