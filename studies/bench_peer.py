@@ -34,8 +34,8 @@ import shutil
 import subprocess
 import sys
 import time
-from pathlib import Path
 from dataclasses import replace
+from pathlib import Path
 from types import SimpleNamespace
 
 import dolfinx_solver  # noqa: F401  (before dolfinx)
