@@ -57,9 +57,9 @@ SECTOR_MARGIN = 1  # unrefined teeth added each side of the refined teeth in a s
 ACTIVE_MARGIN = 1  # refined teeth added each side of the teeth in contact
 # Sun angles sampled per mesh cycle for the bodies of the cycle (``cycle_bodies``): a tooth
 # can be in contact for a tenth of a pitch only, between two of five samples (1-GA: a pinion
-# tooth at 0.55-0.65 p, and a tooth index that moves on as the placement angle wraps), so 5
-# samples gave bodies that changed from one position to the next; 60 hits every position of
-# a study with 1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30 or 60 positions exactly.
+# tooth at 0.55-0.65 p), so 5 samples gave bodies that changed from one position to the
+# next; 60 hits every position of a study with 1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30 or 60
+# positions exactly.
 CYCLE_SAMPLES = 60
 _CYCLE_MEMO: dict[str, tuple[dict, dict]] = {}  # see _cycle_cover
 
@@ -271,17 +271,32 @@ def branch_centres(gearset, psi: float, rp_side: int = +1, radial_offset: float 
     )
 
 
-def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, radial_offset):
+def _unwrap(angle: float, ref: float | None, teeth: int, omega: int) -> float:
+    """``angle`` moved by whole tooth pitches to lie within one pitch of ``ref`` in the sense
+    of rotation ``omega`` (from ``ref`` on): the placement of a gear at the sun angles of one
+    mesh cycle, measured from its placement at the cycle start, never wraps (a wrap relabels
+    the teeth in contact, so the cycle's refined teeth would differ from gear to gear)."""
+    if ref is None:
+        return angle
+    pitch = 2 * math.pi / teeth
+    slack = 1e-9 * pitch
+    return ref + omega * ((omega * (angle - ref) + slack) % pitch - slack)
+
+
+def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, radial_offset,
+                  angle_ref):  # fmt: skip
     """Pinions of one branch placed in mesh along the power path, their zones, and the ring
     placement angle the branch asks for. The sun turns counter-clockwise (omega = +1); each
-    external mesh reverses the sense, the internal mesh keeps it."""
+    external mesh reverses the sense, the internal mesh keeps it. ``angle_ref``: body ->
+    placement at the cycle start (:func:`_unwrap`), or empty."""
     centres = branch_centres(gearset, psi, rp_side, radial_offset)
     drv, drv_pl, omega = sun, sun_pl, +1
     placed, zones = [], []
     for pname, gname, c in zip(names, gearset.power_path[1:-1], centres, strict=True):
         p_gear = replace(gearset.gears[gname], name=pname)
         ang, zone = solve_mesh(drv, drv_pl, omega, p_gear, c)
-        p_pl = Placement(ang + offsets.pop(pname, 0.0), (float(c[0]), float(c[1])))
+        p_ang = _unwrap(ang + offsets.pop(pname, 0.0), angle_ref.get(pname), p_gear.teeth, -omega)
+        p_pl = Placement(p_ang, (float(c[0]), float(c[1])))
         placed.append(PlacedGear(GearBody(p_gear, **pin_kw), p_pl, -omega, set_gear=gname))
         zones.append(zone)
         drv, drv_pl, omega = p_gear, p_pl, -omega
@@ -292,19 +307,23 @@ def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, ra
 
 
 def _cycle_cover(gearset, roll: float, all_planets: bool, options: dict):
-    """Per body, the teeth in contact and their tension fillets (:func:`tension_fillets`)
-    anywhere in the mesh cycle that holds ``roll``: the union over :data:`CYCLE_SAMPLES` + 1
-    equally spaced sun angles k p .. (k + 1) p, p = 2 pi / Z_sun (memoized per gear set,
-    scene options and cycle)."""
+    """The mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun):
+    per body its placement at the cycle start (the reference of :func:`_unwrap`), and the
+    teeth in contact and their tension fillets (:func:`tension_fillets`) anywhere in the
+    cycle, the union over :data:`CYCLE_SAMPLES` equally spaced sun angles from its start
+    (memoized per gear set, scene options and cycle)."""
     pitch = 2 * math.pi / gearset.gears[gearset.power_path[0]].teeth
     cycle = math.floor(roll / pitch + 1e-9)
     key = repr((gearset, cycle, all_planets, sorted(options.items())))
     if key not in _CYCLE_MEMO:
+        first = planetary_scene(gearset, cycle * pitch, all_planets, cycle_bodies=False,
+                                **options)  # fmt: skip
+        ref = {g.name: g.placement.angle for g in first.gears}
         cover: dict[str, set[int]] = {}
         fine: dict[str, set[tuple[int, str]]] = {}
-        for j in range(CYCLE_SAMPLES + 1):
+        for j in range(CYCLE_SAMPLES):
             sc = planetary_scene(gearset, (cycle + j / CYCLE_SAMPLES) * pitch, all_planets,
-                                 cycle_bodies=False, **options)  # fmt: skip
+                                 cycle_bodies=False, _angle_ref=ref, **options)  # fmt: skip
             for g in sc.gears:
                 cover.setdefault(g.name, set()).update(g.contact_teeth)
             for name, fl in tension_fillets(sc.zones).items():
@@ -312,6 +331,7 @@ def _cycle_cover(gearset, roll: float, all_planets: bool, options: dict):
         if len(_CYCLE_MEMO) >= 64:
             _CYCLE_MEMO.pop(next(iter(_CYCLE_MEMO)))
         _CYCLE_MEMO[key] = (
+            ref,
             {n: frozenset(v) for n, v in cover.items()},
             {n: frozenset(v) for n, v in fine.items()},
         )
@@ -329,6 +349,7 @@ def planetary_scene(
     rp_side: int = +1,
     cycle_bodies: bool = True,
     planet_angles_deg: tuple | None = None,
+    _angle_ref: dict | None = None,
 ) -> Scene:
     """The gear set at sun angle ``roll`` (rad): one branch on +x, or every branch.
 
@@ -339,9 +360,13 @@ def planetary_scene(
 
     ``cycle_bodies``: every body covers (sector) and refines the teeth in contact anywhere in
     the mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun; sampled
-    at :data:`CYCLE_SAMPLES` + 1 angles), so all the positions of a cycle share the same
+    at :data:`CYCLE_SAMPLES` angles), so all the positions of a cycle share the same
     bodies and a body's stiffness and factorization serve them all. Off: the teeth in contact
-    at ``roll`` only.
+    at ``roll`` only. Over a cycle the placement of every gear turns on from its placement
+    at the cycle start without wrapping into one tooth pitch (:func:`_unwrap`): a wrap
+    relabels the teeth, so the cycle's refined teeth and fillets held both labels of a tooth
+    and differed between planets in phase (parker2000-3: 4 or 5 fine fillets, the net sun
+    force no longer cancelling).
     The same way every body's ``fine_fillets`` (the fillets meshed at the level's ``fillet``
     size, where the root stress is read) are the tension fillets of the teeth loaded anywhere
     in the cycle (:func:`tension_fillets`, union over the sampled angles and ``roll``), not only
@@ -358,8 +383,9 @@ def planetary_scene(
                "planet_angles_deg": planet_angles_deg}  # fmt: skip
     cover: dict[str, frozenset[int]] = {}
     fine: dict[str, frozenset[tuple[int, str]]] = {}
+    angle_ref = dict(_angle_ref or {})
     if cycle_bodies:
-        cover, fine = _cycle_cover(gearset, roll, all_planets, options)
+        angle_ref, cover, fine = _cycle_cover(gearset, roll, all_planets, options)
     path = gearset.power_path
     sun, ring = gearset.gears[path[0]], gearset.gears[path[-1]]
     pinions = path[1:-1]
@@ -384,7 +410,16 @@ def planetary_scene(
     placed, zones, ring_angles = [], [], []
     for psi, names in zip(angles, branch_names, strict=True):
         pg, zn, ang_r, ring_omega = _place_branch(
-            gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, pinion_radial_offset
+            gearset,
+            sun,
+            sun_pl,
+            psi,
+            names,
+            offsets,
+            pin_kw,
+            rp_side,
+            pinion_radial_offset,
+            angle_ref,
         )
         placed += pg
         zones += zn
@@ -398,7 +433,8 @@ def planetary_scene(
                 f"deg is out of phase with the ring by {mis * ring.base_radius * 1e3:.2f} um "
                 "(assembly condition)"
             )
-    ring_pl = Placement(ring_angles[0] + offsets.pop(path[-1], 0.0))
+    ring_pl = Placement(_unwrap(ring_angles[0] + offsets.pop(path[-1], 0.0),
+                                angle_ref.get(path[-1]), ring.teeth, ring_omega))  # fmt: skip
     if offsets:
         raise MeshingError(f"phase_offsets: unknown bodies {sorted(offsets)}")
     gears = [

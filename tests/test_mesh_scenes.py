@@ -168,6 +168,19 @@ def test_positions_of_a_study_share_the_body_meshes(case, kind):
             assert {s for _, s in fine} <= sides  # drive-side (tension) fillets only
 
 
+def test_planets_in_phase_get_the_same_bodies_up_to_labels():
+    """parker2000-3: three planets in phase (Z_sun + Z_ring = 126, 3 | 27) see the same
+    contact over the mesh cycle, so they get as many refined teeth and fine fillets each.
+    (With the placements wrapped into one pitch the wrap fell at another sun angle for each
+    planet and the union held both labels of a tooth for some: 5, 5 and 4 fine fillets.)"""
+    from cases.study_case import load_study_case
+
+    sc = scenes.build_scene("all_planets", load_study_case("parker2000-3").gearset, 0.0)
+    planets = [sc.gear(n) for n in sc.pinion_names]
+    assert len({len(g.body.fine_fillets) for g in planets}) == 1
+    assert len({len(g.active_teeth) for g in planets}) == 1
+
+
 def test_teeth_in_mesh_are_refined(all_scenes):
     for sc in all_scenes.values():
         for g in sc.gears:
