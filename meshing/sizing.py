@@ -42,23 +42,24 @@ other jobs, so their times are upper bounds):
     level 1  0.15    434k    46      5.4       866   932         968          658
     level 1  0.12    547k    70      7.0       901   928        1030          654
     the scenes' fine fillets (the tension fillets of the teeth loaded anywhere in the mesh
-    cycle: sun 5, pinion 10, ring 4; the others at fillet_far; times with cached meshes):
-    level 0  0.45    130k    10      1.3       573   595         694          481
-    level 0  0.3     184k    15      1.8       701   699         878          565
-    level 1  0.45    197k    17      2.1       599   628         675          479
-    level 1  0.3     267k    23      3.0       704   686         836          609
-    level 1  0.2     396k    39      4.9       827   817         946          677
-    level 1  0.15    546k    56      7.0       867   865        1017          664
-    level 1  0.12    704k    89      9.2       910   959        1036          667
+    cycle: sun 5, pinion 9, ring 4; the others at fillet_far; another engineer's job shared
+    the cores, and the 0.15 mm time includes building the meshes):
+    level 0  0.45    127k    11      1.3       573   604         748          505
+    level 0  0.3     178k    16      1.9       701   761         774          674
+    level 1  0.45    193k    17      2.1       600   638         689          499
+    level 1  0.3     259k    25      3.0       704   720         807          563
+    level 1  0.2     381k    37      4.7       828   806         955          606
+    level 1  0.15    522k    64      6.7       870   849         981          653
+    level 1  0.12    671k    96      8.7       913   925        1046          663
 
 Down to 0.25 mm the values rise by 10-25 % per step of 1.5 in size; from 0.2 to 0.12 mm
 they level off and scatter: 0.15 -> 0.12 mm changes them by +4, -0.4, +6 and -0.5 % (loaded
-only) and by +5, +11, +2 and +0.5 % (the scenes' fillets), the ISO-line value of the sun by
+only) and by +5, +9, +7 and +1.5 % (the scenes' fillets), the ISO-line value of the sun by
 -0.3 % (842, 825, 823). The scatter is the estimator's: the surface maximum moves between
 neighbouring surface nodes (5-8 % apart) and with the mesh of the other fillets (up to 10 %,
 loaded only against all active at 0.45 mm; up to 7 % when only the far teeth's strips
 change, see :func:`meshing.body_mesh.structure_fillets`; the pinion's sun side is 932 loaded
-only and 865 with the cycle's fillets at 0.15 mm). The P1 recovery is first order in the
+only and 849 with the cycle's fillets at 0.15 mm). The P1 recovery is first order in the
 height of the cells on the fillet, about 2 fillet sizes (it recovers the value about a
 quarter of a cell deep, and the stress falls to a fifth within 0.7-0.8 mm of the surface),
 so the fillet must be about 0.15 mm (cells about 0.3 mm high) for a value within the 5 %
@@ -66,20 +67,20 @@ scatter; at the old level-1 fillet (0.45 mm) the surface value was 24-32 % below
 mm value. P2 at level 0 (fillet 0.6 mm, 883k DOFs, 14.7 GB; the convergence study) gave
 807 / 831 / 902 / 594, 9-12 % below the 0.12 mm P1 values.
 
-The ladder. Level 1 (the default) reads the root stress on 0.15 mm fillets: within 5 % of
-the 0.12 mm values for sun, pinion ring side and ring and 10 % below for the pinion's sun
-side at this position (7 % below its loaded-only 0.12 mm value), against 24-32 % below with
-the old 0.45 mm; it costs 546k DOFs, 7.0 GB and 56 s at the first position of a study
-(11 s at each further one, the bodies reused) instead of 248k, 2.8 GB and 20 s (5 s). Level
-0 (CI) keeps its cost: 0.45 mm on the named fillets and 1.0 mm on the others is 130k DOFs,
-10 s, 1.3 GB (before: every active fillet at 0.6 mm, 129k, 10 s, 1.2 GB); its root stress
-is a smoke value (28-38 % below the 0.12 mm values). Levels 2, 3, 4 go on refining the
+The ladder. Level 1 (the default) reads the root stress on 0.15 mm fillets: 1.5-8 % below
+the 0.12 mm values at this position (sun -5, pinion sun side -8, ring side -6, ring -1.5 %;
+the pinion's sun side 8.5 % below its loaded-only 0.12 mm value), against 24-32 % below
+with the old 0.45 mm; it costs 522k DOFs, 6.7 GB and about 60 s at the first position of a
+study (12 s at each further one, the bodies reused) instead of 248k, 2.8 GB and 20 s (5 s).
+Level 0 (CI) keeps its cost: 0.45 mm on the named fillets and 1.0 mm on the others is 127k
+DOFs, 11 s, 1.3 GB (before: every active fillet at 0.6 mm, 129k, 10 s, 1.2 GB); its root
+stress is a smoke value (24-37 % below the 0.12 mm values). Levels 2, 3, 4 go on refining the
 fillet below its levelling-off size, 0.12, 0.1 and 0.08 mm (every level a different fillet
 size, as the three-grid extrapolation of :mod:`postprocess.convergence_study` needs);
-meshed, not solved here: level 2 about 1.2M DOFs (before 692k DOFs, 10.1 GB; expect
-about 16 GB), level 3 about 2.2M, level 4 about 3.9M (meshed in 8 min); case 2 (2B-GA,
-4 bodies, 24 fine fillets) at level 1 about 793k DOFs instead of 370k. The refined fillets
-cost about 3000 / fillet^2 nodes per sector of 7 active teeth
+meshed, not solved here: level 2 about 1.1M DOFs (before 692k DOFs, 10.1 GB; expect
+about 15 GB), level 3 about 2.1M, level 4 about 3.9M (meshed in 8 min, with one more
+pinion fillet); case 2 (2B-GA, 4 bodies) at level 1 about 838k DOFs instead of 370k. The
+refined fillets cost about 3000 / fillet^2 nodes per sector of 7 active teeth
 (:func:`meshing.body_mesh.structure_fillets`); refining every fillet of the active teeth at
 0.2 mm with level-1 flanks would be 798k DOFs (about 11 GB, not run).
 """

@@ -7,8 +7,8 @@ the fillet size of the active teeth refined (:func:`meshing.sizing.with_fillet`)
 The scenes refine the tension fillets of the teeth loaded anywhere in the mesh cycle
 (``GearBody.fine_fillets``, :func:`meshing.scenes.tension_fillets`; the other fillets of the
 active teeth get ``fillet_far``); ``--loaded-only`` narrows them to the teeth loaded at that
-position (:func:`loaded_fillets_only`). Case 1 at level 1 peaks at 7.0 GB with the cycle's
-fillets at 0.15 mm and 9.2 GB at 0.12 mm (meshing/sizing.py docstring): run finer sizes
+position (:func:`loaded_fillets_only`). Case 1 at level 1 peaks at 6.7 GB with the cycle's
+fillets at 0.15 mm and 8.7 GB at 0.12 mm (meshing/sizing.py docstring): run finer sizes
 under the heavy-job lock, or not at all.
 
 Every (fillet size, degree) run solves one mesh position (sun angle ``--roll``, rad) in a
