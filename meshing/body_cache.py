@@ -12,6 +12,13 @@ from meshing.gear_body import GearBody
 from meshing.to_dolfinx import load_msh
 
 
+def body_params(gb: GearBody, level, active_teeth=None) -> dict:
+    """The cache-key parameters of the body mesh (``cache.key("body", ...)``): the body,
+    the level and the active teeth; two placed gears with equal parameters share one mesh
+    (and, in :class:`solvers.body_store.BodyStore`, one factorization)."""
+    return {"body": gb.params(), "level": level, "active_teeth": check_active(gb, active_teeth)}
+
+
 def body_mesh_file(gb: GearBody, level: int, active_teeth=None, comm=None, rebuild=False):
     """``(msh_path, meta)`` of the body mesh, from the cache or built on rank 0.
 
@@ -19,7 +26,7 @@ def body_mesh_file(gb: GearBody, level: int, active_teeth=None, comm=None, rebui
     gb.validate()
     sizing.check_level(level)
     act = check_active(gb, active_teeth)
-    params = {"body": gb.params(), "level": level, "active_teeth": act}
+    params = body_params(gb, level, act)
 
     def builder(path):
         with gmsh_util.session(gb.body) as gm:

@@ -107,11 +107,9 @@ def structure_fillets(gmsh, gb: GearBody, groups, level: int, active_teeth) -> N
     size and ``tooth``, so opposite sides of a strip always match. A body that names
     ``fine_fillets`` gets one count per group of fillets sharing a longitudinal curve (the
     two of a tooth space) instead, or its few fine fillets would refine every fillet of the
-    body along the face width. (That would also save 4-10 % of the DOFs of the default
-    levels, on the far teeth of the full pinion: case 1 one-branch scene, level 0 129k ->
-    121k, level 1 248k -> 233k, level 2 692k -> 628k; it is not the default because it
-    changes every mesh, and with them the root stress by up to 7 % at level 1 and the
-    results that tests pin to 1e-10.)
+    body along the face width. The scenes name their fine fillets
+    (:func:`meshing.scenes.tension_fillets`), so every scene body is meshed this way; a
+    body that names none (a standalone body of the tests) keeps one count for all.
 
     Through the depth the tets follow the strips: HXT sizes the volume from the longest
     surface edge at each node, so the tets on a fillet are about 2 ``fillet`` high (measured

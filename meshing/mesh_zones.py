@@ -292,7 +292,10 @@ def contact_lines(zone: MeshZone, drv: PlacedGear, dvn: PlacedGear, n=41, coast=
         pts = np.c_[p2, zs[inside]]
         local = dvn.placement.inverse(pts)
         th = np.arctan2(local[:, 1], local[:, 0]) - gb.helix_rotation(local[:, 2])
-        j = int(np.round(np.median(th) / pitch_b - 0.25 * sb)) % gb.teeth
+        # circular mean: the angles of one line can straddle the +-pi cut of arctan2, where
+        # their median (used before) named a tooth on the far side of the gear
+        th_c = float(np.angle(np.mean(np.exp(1j * th))))
+        j = int(np.round(th_c / pitch_b - 0.25 * sb)) % gb.teeth
         out.append((k, j, pts))
     return tuple(out)
 

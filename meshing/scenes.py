@@ -55,6 +55,13 @@ SUN_RIM_MODULES = 3.5
 RING_RIM_THICKNESS = 5.0  # outer radius = root radius + this
 SECTOR_MARGIN = 1  # unrefined teeth added each side of the refined teeth in a sector
 ACTIVE_MARGIN = 1  # refined teeth added each side of the teeth in contact
+# Sun angles sampled per mesh cycle for the bodies of the cycle (``cycle_bodies``): a tooth
+# can be in contact for a tenth of a pitch only, between two of five samples (1-GA: a pinion
+# tooth at 0.55-0.65 p), so 5 samples gave bodies that changed from one position to the
+# next; 60 hits every position of a study with 1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30 or 60
+# positions exactly.
+CYCLE_SAMPLES = 60
+_CYCLE_MEMO: dict[str, tuple[dict, dict]] = {}  # see _cycle_cover
 
 
 def sun_bore_radius(sun) -> float:
@@ -134,6 +141,7 @@ class Scene:
                     "centre_mm": list(g.placement.centre),
                     "omega": g.omega,
                     "refined_teeth": list(g.active_teeth),
+                    "fine_fillets": [list(f) for f in g.body.fine_fillets or ()],
                     "teeth_in_contact": list(g.contact_teeth),
                 }
                 for g in self.gears
@@ -201,18 +209,39 @@ def _check_phase(scene_name: str, zone: MeshZone, drv: PlacedGear, dvn: PlacedGe
         )
 
 
+def tension_fillets(zones) -> dict[str, set[tuple[int, str]]]:
+    """Body -> the (tooth, side) fillets in tension under load at one mesh position: of every
+    contact line of every zone (with ``contact_lines``), the driver tooth's fillet on the
+    zone's driver side and the driven tooth's on its driven side (the fillet under the loaded
+    flank; :mod:`solvers.root_stress` reads the root stress on these teeth)."""
+    out: dict[str, set[tuple[int, str]]] = {}
+    for zn in zones:
+        for k, j, _ in zn.contact_lines:
+            out.setdefault(zn.driver, set()).add((int(k), zn.driver_side))
+            out.setdefault(zn.driven, set()).add((int(j), zn.driven_side))
+    return out
+
+
 def _finish_gear(
-    pg: PlacedGear, contact: list[int], cover: set[int], full: bool, radius_kw: dict
+    pg: PlacedGear,
+    contact: list[int],
+    cover: set[int],
+    full: bool,
+    radius_kw: dict,
+    fine: set[tuple[int, str]],
 ) -> PlacedGear:
     """The body of a placed gear: refined around the teeth in ``cover`` (the teeth in contact
-    anywhere in the mesh cycle) and, for a sector, cut around them."""
+    anywhere in the mesh cycle) and, for a sector, cut around them; the fillets in ``fine``
+    (the tension fillets of those teeth, :func:`tension_fillets`) get the level's ``fillet``
+    size, the other fillets ``fillet_far`` (``GearBody.fine_fillets``)."""
     g = pg.gear
     teeth = sorted(set(contact) | set(cover))
     active = _widen(teeth, g.teeth, ACTIVE_MARGIN)
+    kw = {**radius_kw, "fine_fillets": tuple(sorted(fine))}
     if full:
-        body = GearBody(g, **radius_kw)
+        body = GearBody(g, **kw)
     else:
-        body = _sector(g, _teeth_around(teeth, g.teeth, ACTIVE_MARGIN + SECTOR_MARGIN), radius_kw)
+        body = _sector(g, _teeth_around(teeth, g.teeth, ACTIVE_MARGIN + SECTOR_MARGIN), kw)
     return replace(
         pg, body=body, active_teeth=tuple(sorted(active)), contact_teeth=tuple(sorted(contact))
     )
@@ -242,17 +271,32 @@ def branch_centres(gearset, psi: float, rp_side: int = +1, radial_offset: float 
     )
 
 
-def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, radial_offset):
+def _unwrap(angle: float, ref: float | None, teeth: int, omega: int) -> float:
+    """``angle`` moved by whole tooth pitches to lie within one pitch of ``ref`` in the sense
+    of rotation ``omega`` (from ``ref`` on): the placement of a gear at the sun angles of one
+    mesh cycle, measured from its placement at the cycle start, never wraps (a wrap relabels
+    the teeth in contact, so the cycle's refined teeth would differ from gear to gear)."""
+    if ref is None:
+        return angle
+    pitch = 2 * math.pi / teeth
+    slack = 1e-9 * pitch
+    return ref + omega * ((omega * (angle - ref) + slack) % pitch - slack)
+
+
+def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, radial_offset,
+                  angle_ref):  # fmt: skip
     """Pinions of one branch placed in mesh along the power path, their zones, and the ring
     placement angle the branch asks for. The sun turns counter-clockwise (omega = +1); each
-    external mesh reverses the sense, the internal mesh keeps it."""
+    external mesh reverses the sense, the internal mesh keeps it. ``angle_ref``: body ->
+    placement at the cycle start (:func:`_unwrap`), or empty."""
     centres = branch_centres(gearset, psi, rp_side, radial_offset)
     drv, drv_pl, omega = sun, sun_pl, +1
     placed, zones = [], []
     for pname, gname, c in zip(names, gearset.power_path[1:-1], centres, strict=True):
         p_gear = replace(gearset.gears[gname], name=pname)
         ang, zone = solve_mesh(drv, drv_pl, omega, p_gear, c)
-        p_pl = Placement(ang + offsets.pop(pname, 0.0), (float(c[0]), float(c[1])))
+        p_ang = _unwrap(ang + offsets.pop(pname, 0.0), angle_ref.get(pname), p_gear.teeth, -omega)
+        p_pl = Placement(p_ang, (float(c[0]), float(c[1])))
         placed.append(PlacedGear(GearBody(p_gear, **pin_kw), p_pl, -omega, set_gear=gname))
         zones.append(zone)
         drv, drv_pl, omega = p_gear, p_pl, -omega
@@ -260,6 +304,38 @@ def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, ra
     ang_r, zone = solve_mesh(drv, drv_pl, omega, ring, (0.0, 0.0))
     zones.append(zone)
     return placed, zones, ang_r, omega
+
+
+def _cycle_cover(gearset, roll: float, all_planets: bool, options: dict):
+    """The mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun):
+    per body its placement at the cycle start (the reference of :func:`_unwrap`), and the
+    teeth in contact and their tension fillets (:func:`tension_fillets`) anywhere in the
+    cycle, the union over :data:`CYCLE_SAMPLES` equally spaced sun angles from its start
+    (memoized per gear set, scene options and cycle)."""
+    pitch = 2 * math.pi / gearset.gears[gearset.power_path[0]].teeth
+    cycle = math.floor(roll / pitch + 1e-9)
+    key = repr((gearset, cycle, all_planets, sorted(options.items())))
+    if key not in _CYCLE_MEMO:
+        first = planetary_scene(gearset, cycle * pitch, all_planets, cycle_bodies=False,
+                                **options)  # fmt: skip
+        ref = {g.name: g.placement.angle for g in first.gears}
+        cover: dict[str, set[int]] = {}
+        fine: dict[str, set[tuple[int, str]]] = {}
+        for j in range(CYCLE_SAMPLES):
+            sc = planetary_scene(gearset, (cycle + j / CYCLE_SAMPLES) * pitch, all_planets,
+                                 cycle_bodies=False, _angle_ref=ref, **options)  # fmt: skip
+            for g in sc.gears:
+                cover.setdefault(g.name, set()).update(g.contact_teeth)
+            for name, fl in tension_fillets(sc.zones).items():
+                fine.setdefault(name, set()).update(fl)
+        if len(_CYCLE_MEMO) >= 64:
+            _CYCLE_MEMO.pop(next(iter(_CYCLE_MEMO)))
+        _CYCLE_MEMO[key] = (
+            ref,
+            {n: frozenset(v) for n, v in cover.items()},
+            {n: frozenset(v) for n, v in fine.items()},
+        )
+    return _CYCLE_MEMO[key]
 
 
 def planetary_scene(
@@ -273,6 +349,7 @@ def planetary_scene(
     rp_side: int = +1,
     cycle_bodies: bool = True,
     planet_angles_deg: tuple | None = None,
+    _angle_ref: dict | None = None,
 ) -> Scene:
     """The gear set at sun angle ``roll`` (rad): one branch on +x, or every branch.
 
@@ -283,8 +360,18 @@ def planetary_scene(
 
     ``cycle_bodies``: every body covers (sector) and refines the teeth in contact anywhere in
     the mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun; sampled
-    at five angles), so all the positions of a cycle share the same bodies and a body's
-    stiffness and factorization serve them all. Off: the teeth in contact at ``roll`` only.
+    at :data:`CYCLE_SAMPLES` angles), so all the positions of a cycle share the same
+    bodies and a body's stiffness and factorization serve them all. Off: the teeth in contact
+    at ``roll`` only. Over a cycle the placement of every gear turns on from its placement
+    at the cycle start without wrapping into one tooth pitch (:func:`_unwrap`): a wrap
+    relabels the teeth, so the cycle's refined teeth and fillets held both labels of a tooth
+    and differed between planets in phase (parker2000-3: 4 or 5 fine fillets, the net sun
+    force no longer cancelling).
+    The same way every body's ``fine_fillets`` (the fillets meshed at the level's ``fillet``
+    size, where the root stress is read) are the tension fillets of the teeth loaded anywhere
+    in the cycle (:func:`tension_fillets`, union over the sampled angles and ``roll``), not only
+    at ``roll``: a per-position set would change the body meshes from one position to the
+    next; the other fillets of the refined teeth get ``fillet_far``.
 
     ``planet_angles_deg`` (all planets, no carrier body): the carrier angles of the branches
     (deg, one per planet of the set) instead of the assemblable angles nearest to equal
@@ -294,15 +381,11 @@ def planetary_scene(
     options = {"phase_offsets": phase_offsets, "pinion_radial_offset": pinion_radial_offset,
                "pin_diameter": pin_diameter, "carrier": carrier, "rp_side": rp_side,
                "planet_angles_deg": planet_angles_deg}  # fmt: skip
-    cover: dict[str, set[int]] = {}
+    cover: dict[str, frozenset[int]] = {}
+    fine: dict[str, frozenset[tuple[int, str]]] = {}
+    angle_ref = dict(_angle_ref or {})
     if cycle_bodies:
-        pitch = 2 * math.pi / gearset.gears[gearset.power_path[0]].teeth
-        start = math.floor(roll / pitch + 1e-9) * pitch
-        for f in (0.0, 0.25, 0.5, 0.75, 1.0):
-            sc = planetary_scene(gearset, start + f * pitch, all_planets, cycle_bodies=False,
-                                 **options)  # fmt: skip
-            for g in sc.gears:
-                cover.setdefault(g.name, set()).update(g.contact_teeth)
+        angle_ref, cover, fine = _cycle_cover(gearset, roll, all_planets, options)
     path = gearset.power_path
     sun, ring = gearset.gears[path[0]], gearset.gears[path[-1]]
     pinions = path[1:-1]
@@ -327,7 +410,16 @@ def planetary_scene(
     placed, zones, ring_angles = [], [], []
     for psi, names in zip(angles, branch_names, strict=True):
         pg, zn, ang_r, ring_omega = _place_branch(
-            gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, pinion_radial_offset
+            gearset,
+            sun,
+            sun_pl,
+            psi,
+            names,
+            offsets,
+            pin_kw,
+            rp_side,
+            pinion_radial_offset,
+            angle_ref,
         )
         placed += pg
         zones += zn
@@ -341,7 +433,8 @@ def planetary_scene(
                 f"deg is out of phase with the ring by {mis * ring.base_radius * 1e3:.2f} um "
                 "(assembly condition)"
             )
-    ring_pl = Placement(ring_angles[0] + offsets.pop(path[-1], 0.0))
+    ring_pl = Placement(_unwrap(ring_angles[0] + offsets.pop(path[-1], 0.0),
+                                angle_ref.get(path[-1]), ring.teeth, ring_omega))  # fmt: skip
     if offsets:
         raise MeshingError(f"phase_offsets: unknown bodies {sorted(offsets)}")
     gears = [
@@ -387,6 +480,7 @@ def planetary_scene(
         notes=notes,
         branches=len(angles),
         cover=cover,
+        fine=fine,
     )
 
 
@@ -427,8 +521,9 @@ def system_scene(gearset, roll: float = 0.0, **options) -> Scene:
 
 
 def _assemble_scene(
-    name, gearset, roll, gears, zones, full, radius_kw, left_out, carrier, notes, branches, cover
-):
+    name, gearset, roll, gears, zones, full, radius_kw, left_out, carrier, notes, branches, cover,
+    fine,
+):  # fmt: skip
     by_name = {g.name: g for g in gears}
     # Contact lines and the teeth in contact.
     zones_done = []
@@ -440,10 +535,12 @@ def _assemble_scene(
             contact[zn.driver].add(k)
             contact[zn.driven].add(j)
         zones_done.append(zn)
-    # Bodies: sectors / full, refined teeth.
+    # Bodies: sectors / full, refined teeth, fine fillets (the cycle's and this position's
+    # tension fillets: the same set at every position of a cycle).
+    here = tension_fillets(zones_done)
     placed = [
         _finish_gear(g, sorted(contact[g.name]), cover.get(g.name, set()), full[g.name],
-                     radius_kw[g.name])
+                     radius_kw[g.name], fine.get(g.name, set()) | here.get(g.name, set()))
         for g in gears
     ]  # fmt: skip
     by_name = {g.name: g for g in placed}

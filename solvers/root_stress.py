@@ -27,11 +27,14 @@ at level 0 as the patch shrank from 2 to 1 edge deep (nodal 552, P2 807): no sta
 extrapolation while the stress falls from its surface value to a fifth of it within the
 first two cell layers, 0.7-0.8 mm). The fillet-only ladder (meshing/sizing.py docstring)
 finds the P1 surface value levelling off, within a 5 % scatter, at fillet sizes of
-0.12-0.15 mm; at level 1 (0.45 mm) it is 24-32 % lower.
-Measured on 1-GA at roll 0 against P2 at level 0: P1 gives 0.64-0.70 of it at level 0,
-0.68-0.78 at level 1 and 0.85-0.96 at level 2 (3, 3-4 and 5-6 elements across the fillet):
-quote P2 for the root stress. The maximum principal stress (tension positive) of the nodal
-tensors is evaluated
+0.12-0.15 mm; at the old level-1 fillet (0.45 mm) it was 24-32 % lower. The scenes now
+refine the tension fillets of the teeth loaded in the mesh cycle (``GearBody.fine_fillets``)
+to the level's ``fillet`` size, 0.15 mm at level 1 (1-GB at roll 0: 1.5-8 % below the 0.12
+mm values, the pinion the most); level 0 (0.45 mm) is a smoke value, 24-37 % low. P2 at
+level 0 (0.6 mm fillets) is 9-12 % below the 0.12 mm P1 values (before the fine fillets, on
+1-GA at roll 0, P1 gave 0.64-0.70 of P2 level 0 at level 0, 0.68-0.78 at level 1 and
+0.85-0.96 at level 2). The maximum principal stress (tension positive) of the
+nodal tensors is evaluated
 
 * at every fillet vertex of the loaded teeth more than one fillet element (the longest
   fillet facet edge) from a face end: the surface maximum (the value quoted), with its

@@ -4,11 +4,12 @@ the fillet size of the active teeth refined (:func:`meshing.sizing.with_fillet`)
     python -m studies.fillet_study 1-GB [--level 1] [--fillets 0.45 0.35 0.3 0.25]
         [--p2 0.3 ...] [--roll 0] [--loaded-only] [--out results/fillet] [--timeout 3600]
 
-``--loaded-only`` refines only the tension fillets of the teeth loaded at that position
-(:func:`loaded_fillets_only`, ``GearBody.fine_fillets``); the other fillets of the active
-teeth keep ``fillet_far``. Case 1 at level 1 peaks at 7.2 GB with every active fillet at
-0.25 mm and at 7.0 GB with the loaded ones at 0.12 mm (meshing/sizing.py docstring): run
-finer sizes under the heavy-job lock, or not at all.
+The scenes refine the tension fillets of the teeth loaded anywhere in the mesh cycle
+(``GearBody.fine_fillets``, :func:`meshing.scenes.tension_fillets`; the other fillets of the
+active teeth get ``fillet_far``); ``--loaded-only`` narrows them to the teeth loaded at that
+position (:func:`loaded_fillets_only`). Case 1 at level 1 peaks at 6.7 GB with the cycle's
+fillets at 0.15 mm and 8.7 GB at 0.12 mm (meshing/sizing.py docstring): run finer sizes
+under the heavy-job lock, or not at all.
 
 Every (fillet size, degree) run solves one mesh position (sun angle ``--roll``, rad) in a
 fresh child process (:func:`studies.position_runs.run_child`), so its wall time and peak
@@ -36,7 +37,7 @@ from mpi4py import MPI
 from cases.study_case import load_study_case
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
-from meshing.scenes import build_scene
+from meshing.scenes import build_scene, tension_fillets
 from postprocess.fillet_study import fillet_table
 from solvers.body_store import BodyStore
 from solvers.gear_train import build_gear_train
@@ -49,14 +50,11 @@ from studies.position_runs import peak_rss_mb, print_row, run_child
 def loaded_fillets_only(scene):
     """``scene`` with every gear body's fine fillets limited to the fillets under the loaded
     flanks of this position (the driver and driven tooth of every contact line of every
-    zone, on the zone's drive sides: the tension fillets the root stress is read on)."""
-    fine: dict[str, set] = {g.name: set() for g in scene.gears}
-    for zn in scene.zones:
-        for drv_tooth, dvn_tooth, _ in zn.contact_lines:
-            fine[zn.driver].add((int(drv_tooth), zn.driver_side))
-            fine[zn.driven].add((int(dvn_tooth), zn.driven_side))
+    zone, on the zone's drive sides: the tension fillets the root stress is read on), where
+    the scene names those of the whole mesh cycle (:func:`meshing.scenes.tension_fillets`)."""
+    fine = tension_fillets(scene.zones)
     gears = tuple(
-        replace(g, body=replace(g.body, fine_fillets=tuple(sorted(fine[g.name]))))
+        replace(g, body=replace(g.body, fine_fillets=tuple(sorted(fine.get(g.name, ())))))
         for g in scene.gears
     )
     return replace(scene, gears=gears)
@@ -190,7 +188,8 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--loaded-only",
         action="store_true",
-        help="refine only the tension fillets of the loaded teeth",
+        help="refine only the tension fillets of the teeth loaded at --roll (default: the "
+        "mesh cycle's, as the scenes)",
     )
     ap.add_argument("--one", nargs=6, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)

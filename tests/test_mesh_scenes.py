@@ -129,6 +129,58 @@ def test_all_branches_planet_angles(all_scenes):
     assert max(abs(a - e) for a, e in zip(sorted(angles), (0, 120, 240), strict=True)) < step
 
 
+STUDY_SCENES = [("1-GB", "one_branch"), ("1-GA", "all_planets"), ("1-GA", "system"),
+                 ("2B-GA", "one_branch"), ("2B-GA", "all_planets")]  # fmt: skip
+
+
+@pytest.mark.parametrize("case, kind", STUDY_SCENES, ids=[f"{c}-{k}" for c, k in STUDY_SCENES])
+def test_positions_of_a_study_share_the_body_meshes(case, kind):
+    """Every position of a study (the case's positions and 12, over one base pitch) gives
+    the same body mesh cache keys (so one factorization serves them all,
+    solvers.body_store): the refined teeth, sectors and fine fillets are the union over the
+    mesh cycle, not the teeth in contact at the position. (With the cycle sampled at five
+    angles the all-planet scenes of 1-GA and 2B-GA changed a pinion or the ring from one
+    position to the next.) The fine fillets are the tension fillets (drive side) of every
+    tooth in contact at every position, on refined teeth."""
+    from cases.study_case import load_study_case
+    from meshing import cache
+    from meshing.body_cache import body_params
+    from studies.run import roll_angles
+
+    study = load_study_case(case)
+    for n in sorted({study.model.positions, 12}):
+        keys, fine_here = set(), {}
+        for roll in roll_angles(study, n):
+            sc = scenes.build_scene(kind, study.gearset, roll)
+            keys.add(tuple(cache.key("body", body_params(g.body, 1, g.active_teeth))
+                           for g in sc.gears))  # fmt: skip
+            for zn in sc.zones:
+                for k, j, _ in zn.contact_lines:
+                    fine_here.setdefault(zn.driver, set()).add((k, zn.driver_side))
+                    fine_here.setdefault(zn.driven, set()).add((j, zn.driven_side))
+        assert len(keys) == 1, f"{case} {kind}, {n} positions: the body meshes change"
+        for g in sc.gears:
+            fine = set(g.body.fine_fillets)
+            assert fine_here[g.name] <= fine
+            assert {k for k, _ in fine} <= set(g.active_teeth)
+            sides = {zn.driver_side for zn in sc.zones if zn.driver == g.name}
+            sides |= {zn.driven_side for zn in sc.zones if zn.driven == g.name}
+            assert {s for _, s in fine} <= sides  # drive-side (tension) fillets only
+
+
+def test_planets_in_phase_get_the_same_bodies_up_to_labels():
+    """parker2000-3: three planets in phase (Z_sun + Z_ring = 126, 3 | 27) see the same
+    contact over the mesh cycle, so they get as many refined teeth and fine fillets each.
+    (With the placements wrapped into one pitch the wrap fell at another sun angle for each
+    planet and the union held both labels of a tooth for some: 5, 5 and 4 fine fillets.)"""
+    from cases.study_case import load_study_case
+
+    sc = scenes.build_scene("all_planets", load_study_case("parker2000-3").gearset, 0.0)
+    planets = [sc.gear(n) for n in sc.pinion_names]
+    assert len({len(g.body.fine_fillets) for g in planets}) == 1
+    assert len({len(g.active_teeth) for g in planets}) == 1
+
+
 def test_teeth_in_mesh_are_refined(all_scenes):
     for sc in all_scenes.values():
         for g in sc.gears:
