@@ -45,6 +45,11 @@ CONTACT_MODELS = ("line", "zone")
 ZONE_GAP_RANGE = (1.0, 500.0)  # um, inclusive
 # the body solvers of solvers.elastic_body.LinearSolver (a test checks the two agree)
 LINEAR_SOLVERS = ("mumps", "mumps-blr", "cg-gamg")
+# Which root fillets a scene refines to the level's fillet size (meshing.sizing.Level):
+# "auto" = "refined" in the one-branch scene, where the root stress is read, "coarse" in the
+# all-planet and system scenes (refining every planet's loaded fillets would double their
+# DOFs); "coarse" = every fillet at fillet_far, and no root stress is reported.
+ROOT_FILLETS = ("auto", "refined", "coarse")
 LINEAR_TOLERANCE_RANGE = (1e-14, 1e-3)  # inclusive; BLR threshold or CG relative residual
 
 
@@ -111,6 +116,8 @@ class Numerics:
     # BLR dropping threshold or CG relative residual, LINEAR_TOLERANCE_RANGE; None: the
     # solver's default (1e-6 BLR, 1e-8 CG); "mumps" takes none.
     linear_tolerance: float | None = None
+    # Root fillets refined where the root stress is read, one of ROOT_FILLETS.
+    root_fillets: str = "auto"
 
     def __post_init__(self):
         d = self.degree
@@ -144,6 +151,11 @@ class Numerics:
                 f"numerics.zone_gap_limit_um = {g!r}: must be a number in [{lo:g}, {hi:g}] um"
             )
         object.__setattr__(self, "zone_gap_limit_um", float(g))
+        if self.root_fillets not in ROOT_FILLETS:
+            raise CaseError(
+                f"numerics.root_fillets = {self.root_fillets!r}: must be one of "
+                f"{', '.join(repr(m) for m in ROOT_FILLETS)}"
+            )
         if self.linear_solver not in LINEAR_SOLVERS:
             raise CaseError(
                 f"numerics.linear_solver = {self.linear_solver!r}: must be one of "

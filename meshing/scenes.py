@@ -349,6 +349,7 @@ def planetary_scene(
     rp_side: int = +1,
     cycle_bodies: bool = True,
     planet_angles_deg: tuple | None = None,
+    fine_fillets: bool | None = None,
     _angle_ref: dict | None = None,
 ) -> Scene:
     """The gear set at sun angle ``roll`` (rad): one branch on +x, or every branch.
@@ -371,7 +372,10 @@ def planetary_scene(
     size, where the root stress is read) are the tension fillets of the teeth loaded anywhere
     in the cycle (:func:`tension_fillets`, union over the sampled angles and ``roll``), not only
     at ``roll``: a per-position set would change the body meshes from one position to the
-    next; the other fillets of the refined teeth get ``fillet_far``.
+    next; the other fillets of the refined teeth get ``fillet_far``. ``fine_fillets`` False
+    names none (every fillet at ``fillet_far``; :func:`reads_root_stress` is then False);
+    None: True for one branch, False with all planets, where the loaded fillets of every
+    planet at 0.15 mm (level 1) would about double the DOFs (numerics.root_fillets).
 
     ``planet_angles_deg`` (all planets, no carrier body): the carrier angles of the branches
     (deg, one per planet of the set) instead of the assemblable angles nearest to equal
@@ -386,6 +390,7 @@ def planetary_scene(
     angle_ref = dict(_angle_ref or {})
     if cycle_bodies:
         angle_ref, cover, fine = _cycle_cover(gearset, roll, all_planets, options)
+    refine = (not all_planets) if fine_fillets is None else bool(fine_fillets)
     path = gearset.power_path
     sun, ring = gearset.gears[path[0]], gearset.gears[path[-1]]
     pinions = path[1:-1]
@@ -480,7 +485,7 @@ def planetary_scene(
         notes=notes,
         branches=len(angles),
         cover=cover,
-        fine=fine,
+        fine=fine if refine else None,
     )
 
 
@@ -537,7 +542,10 @@ def _assemble_scene(
         zones_done.append(zn)
     # Bodies: sectors / full, refined teeth, fine fillets (the cycle's and this position's
     # tension fillets: the same set at every position of a cycle).
-    here = tension_fillets(zones_done)
+    here = tension_fillets(zones_done) if fine is not None else {}
+    if fine is None:  # no fine fillets: every fillet at fillet_far, no root stress read
+        fine = {}
+        notes = (*notes, "root fillets coarse (fillet_far): no root stress read in this scene")
     placed = [
         _finish_gear(g, sorted(contact[g.name]), cover.get(g.name, set()), full[g.name],
                      radius_kw[g.name], fine.get(g.name, set()) | here.get(g.name, set()))
@@ -557,6 +565,12 @@ def _assemble_scene(
         notes=tuple(notes),
         branches=branches,
     )
+
+
+def reads_root_stress(scene) -> bool:
+    """Whether ``scene`` refines fillets to read the root stress on (some body names fine
+    fillets, :func:`planetary_scene`)."""
+    return any(g.body.fine_fillets for g in scene.gears if hasattr(g.body, "fine_fillets"))
 
 
 #: The scenes a study case may name (``model.scene``), each ``builder(gearset, roll, **opts)``.

@@ -96,6 +96,9 @@ def cycle_bending(records: list[dict]) -> dict:
                  "bending_stress_cell": None, "bending_stress_face_end": None,
                  "bending_stress_at": None}  # fmt: skip
     if not recs:
+        out["bending_stress_note"] = (
+            "not read: the scene's root fillets are coarse (numerics.root_fillets; the "
+            "one-branch scene refines them)")  # fmt: skip
         return out
     keys = [k for k, v in recs[0][1]["bending_stress"].items() if not isinstance(v, (dict, str))]
 

@@ -62,6 +62,32 @@ def _inputs(s: dict) -> str:
             f"N mm/rad; gears E x {m['gear_modulus_factor']:g}")  # fmt: skip
 
 
+def root_fillets(s: dict) -> str:
+    """"refined" or "coarse": the root fillets a summary's scene was meshed with
+    (``numerics.root_fillets``; "auto", or absent in older summaries: refined in the
+    one-branch scene only, :func:`meshing.scenes.planetary_scene`)."""
+    choice = s["inputs"]["study_case"].get("numerics", {}).get("root_fillets", "auto")
+    if choice == "auto":
+        return "refined" if s.get("scene") == "one_branch" else "coarse"
+    return choice
+
+
+def _fillet_note(branch: dict, system: dict) -> str:
+    """Whether the branch and system runs compare like with like in their root fillets."""
+    mixed = sorted(n for n in system if n in branch
+                   and root_fillets(branch[n]) != root_fillets(system[n]))  # fmt: skip
+    used = sorted({root_fillets(r) for r in (*branch.values(), *system.values())})
+    if mixed:
+        return (f"**Not like with like**: {', '.join(mixed)} ran with refined root fillets in one "
+                "scene and coarse ones in the other; finer fillets make the teeth more "
+                "compliant and move the moments by 1-3 % (README, case-1 study), which this "
+                "comparison then mixes into the carrier's effect. Run the branch with "
+                "`--root-fillets coarse` (`make case1-system` does).")
+    return (f"Both scenes ran with {used[0] if len(used) == 1 else ' and '.join(used)} root "
+            "fillets (every fillet at the level's fillet_far size, no root stress read), so "
+            "the differences below are the system's, not the fillets' (numerics.root_fillets).")
+
+
 def _per_pair(system: dict, quantities) -> list[str]:
     """Per pair of each case: angle, load share and the quantities (means over positions)."""
     lines = ["", "### Per pair", "",
@@ -193,7 +219,7 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
             lines.append(f"| {name} | {_inputs(r)} | {label} | {r['level']} | {vals} |")
     scenes = {f"{n} ({lab})": rs[n] for n in system for lab, rs in
               (("branch", branch), ("system", system)) if n in rs}  # fmt: skip
-    lines += ["", uncertainty_note(scenes)]
+    lines += ["", uncertainty_note(scenes), "", _fillet_note(branch, system)]
     unit = "pair" if kind == "double_pinion" else "pinion"
     lines += ["", "## What the system adds", "",
               f"| case | K_gamma | load shares ({unit}: angle deg, share) | sun centre (um) |"

@@ -25,7 +25,12 @@ fillet edges also reaches the neighbouring tooth across the tooth space, and a f
 the cells under the vertex (material side, along the normal) gave 450-760 MPa for the sun
 at level 0 as the patch shrank from 2 to 1 edge deep (nodal 552, P2 807): no stable
 extrapolation while the stress falls from its surface value to a fifth of it within the
-first two cell layers, 0.7-0.8 mm). The fillet-only ladder (meshing/sizing.py docstring)
+first two cell layers, 0.7-0.8 mm; a strain-gauge reading, the plane stress of each fillet
+facet's membrane strain from its vertex displacements, was lower still: 1-GB level 1 at
+roll 0, sun / pinion sun side / ring side / ring 446 / 473 / 517 / 415 MPa at 0.45 mm and
+603 / 583 / 609 / 458 at 0.3 mm, against 552 / 580 / 640 / 447 and 671 / 658 / 708 / 521
+nodal: the coarse fillet's displacement itself carries too little of the concentration).
+The fillet-only ladder (meshing/sizing.py docstring)
 finds the P1 surface value levelling off, within a 5 % scatter, at fillet sizes of
 0.12-0.15 mm; at the old level-1 fillet (0.45 mm) it was 24-32 % lower. The scenes now
 refine the tension fillets of the teeth loaded in the mesh cycle (``GearBody.fine_fillets``)

@@ -20,13 +20,22 @@ import numpy as np
 
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
-from meshing.scenes import build_scene
+from meshing.scenes import build_scene, reads_root_stress
 from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
 from solvers.body_store import BodyStore
 from solvers.gear_train import build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
+
+
+def study_scene(study, roll: float, **options):
+    """The scene of ``study`` at sun angle ``roll``: its ``model.scene`` with the root fillets
+    of ``numerics.root_fillets`` ("auto": the scene's own choice) and ``options``
+    (:func:`meshing.scenes.planetary_scene`)."""
+    fillets = {"auto": None, "refined": True, "coarse": False}[study.numerics.root_fillets]
+    return build_scene(study.model.scene, study.gearset, roll,
+                       **{"fine_fillets": fillets, **options})  # fmt: skip
 
 
 def solve_position(
@@ -66,7 +75,7 @@ def solve_position(
     penalty = num.penalty_factor if penalty_factor is None else penalty_factor
     t0 = time.perf_counter()
     _stage(progress, "scene")
-    scene = build_scene(study.model.scene, study.gearset, roll, **(scene_options or {}))
+    scene = study_scene(study, roll, **(scene_options or {}))
     t_scene = time.perf_counter()
     _stage(progress, "meshes")
     meshes = load_body_meshes(scene, level, comm, store.mesh_memo)
@@ -81,7 +90,8 @@ def solve_position(
     _stage(progress, "post")
     train = train_results(model, result)
     out = {**train, **paper_moments(train, scene, study.gearset, spacing)}
-    out["bending_stress"] = root_stress(model, result)
+    # the root stress only where the scene refines the fillets it is read on
+    out["bending_stress"] = root_stress(model, result) if reads_root_stress(scene) else None
     out.update(
         case=study.name,
         scene=study.model.scene,

@@ -53,6 +53,7 @@ from mpi4py import MPI
 
 from cases.study_case import (
     MAX_POSITIONS,
+    ROOT_FILLETS,
     SCENES,
     StudyCase,
     inputs_hash,
@@ -81,7 +82,7 @@ from studies.cli import (
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
 from studies.plausibility import plausibility_warnings
-from studies.position import solve_position
+from studies.position import solve_position, study_scene
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
 from studies.ranks import Ranks
@@ -182,6 +183,7 @@ def run_study(
     ranks: Ranks | None = None,
     store: BodyStore | None = None,
     scene: str | None = None,
+    root_fillets: str | None = None,
 ) -> dict:
     """Solve every position (reusing finished ones), then write summary.json and the pictures.
     Returns the summary (on every rank). Raises :class:`~studies.cli.StudyFailed` after
@@ -192,13 +194,20 @@ def run_study(
     given; it is collective to make, so a caller running several studies makes it once).
     ``store``: the bodies kept across positions and cases (factorized once; default: kept
     for this study's positions); ``scene``: solve in this scene instead of the case's
-    ``model.scene`` (recorded in the summary's inputs)."""
+    ``model.scene`` (recorded in the summary's inputs); ``root_fillets``: instead of the
+    case's ``numerics.root_fillets`` (recorded the same way)."""
     progress = Progress(comm) if progress is None else progress
     study = load_study_case(name_or_path)
     if scene is not None:
         if scene not in SCENES:
             raise InputError(f"scene = {scene!r}: must be one of {', '.join(SCENES)}")
         study = dataclasses.replace(study, model=dataclasses.replace(study.model, scene=scene))
+    if root_fillets is not None:
+        if root_fillets not in ROOT_FILLETS:
+            raise InputError(f"root_fillets = {root_fillets!r}: must be one of "
+                             f"{', '.join(ROOT_FILLETS)}")  # fmt: skip
+        study = dataclasses.replace(
+            study, numerics=dataclasses.replace(study.numerics, root_fillets=root_fillets))
     store = BodyStore() if store is None else store
     level, n_pos = _checked_settings(study, level, positions)
     out = _output_folder(study, out_root)
@@ -405,7 +414,7 @@ def _pictures(study: StudyCase, solved: list[dict], out: Path, level: int, comm,
 
     def scene():
         first = solved[0]
-        sc = build_scene(study.model.scene, study.gearset, first["roll"])
+        sc = study_scene(study, first["roll"])
         title = f"{study.name}: loaded scene, roll {first['roll']:.4f} rad"
         loaded_scene_picture(sc, first, level, out / "loaded_scene.png", title)
 
@@ -452,6 +461,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--out", type=Path, default=Path("results"), help="results folder")
     ap.add_argument("--scene", choices=SCENES, default=None,
                     help="solve in this scene instead of the case's model.scene")  # fmt: skip
+    ap.add_argument("--root-fillets", choices=ROOT_FILLETS, default=None,
+                    help="refine the root fillets (root stress read) or not, instead of the "
+                    "case's numerics.root_fillets")  # fmt: skip
     ap.add_argument("--no-reuse", action="store_true",
                     help="factorize every body at every position")  # fmt: skip
     ap.add_argument("--quiet", action="store_true", help="only warnings and errors (for CI)")
@@ -486,7 +498,7 @@ def run_case(name: str, args: argparse.Namespace, comm, progress: Progress, rank
     failure = None
     try:
         run_study(name, args.out, args.level, args.positions, comm, progress, ranks, store,
-                  args.scene)  # fmt: skip
+                  args.scene, args.root_fillets)  # fmt: skip
     except KeyboardInterrupt:
         progress.error(f"{name}: interrupted; finished positions are kept")
         return EXIT_INTERRUPTED

@@ -262,6 +262,26 @@ def test_system_report_double_pinion(tmp_path):
     assert "M_LOA_sun_SP -20.0" in text and "-300 urad" in text
 
 
+@pytest.mark.parametrize(("branch_fillets", "like"), [("auto", False), ("coarse", True)])
+def test_system_report_says_whether_the_fillets_compare_like_with_like(branch_fillets, like):
+    """The one-branch scene refines its root fillets by default, the system scene does not:
+    a branch run with the default against a system run mixes the fillets' compliance into
+    the carrier's effect, and the report says so; with the branch run coarse it says the
+    two compare like with like."""
+    from postprocess.system_report import _fillet_note, root_fillets
+
+    def summary(scene, choice):
+        return {"scene": scene, "inputs": {"study_case": {"numerics": {"root_fillets": choice}}}}
+
+    branch = {"2X": summary("one_branch", branch_fillets)}
+    system = {"2X": summary("system", "auto")}
+    assert root_fillets(system["2X"]) == "coarse"
+    assert root_fillets(branch["2X"]) == ("coarse" if like else "refined")
+    note = _fillet_note(branch, system)
+    assert ("Not like with like" in note) is (not like)
+    assert ("Both scenes ran with coarse root fillets" in note) is like
+
+
 @pytest.mark.parametrize("gearset", ["case1", "case2"])
 def test_carrier_meshes_meet_the_quality_floor(gearset):
     """Every carrier mesh keeps the stated minimum element quality (meshing.sizing.MIN_SICN).

@@ -148,6 +148,8 @@ def test_numerics_values_are_read():
         ("grid_spacing", 0.01, r"numerics\.grid_spacing = 0\.01"),
         ("grid_spacing", 5.5, r"numerics\.grid_spacing = 5\.5"),
         ("grid_spacing", math.inf, r"numerics\.grid_spacing = inf"),
+        ("root_fillets", "fine", r"numerics\.root_fillets = 'fine': must be one of 'auto', "
+         r"'refined', 'coarse'"),
     ],
 )
 def test_numerics_range_errors(key, value, match):
@@ -402,7 +404,7 @@ def test_study_inputs_are_json_with_resolved_data():
     assert sc["numerics"] == {
         "degree": 1, "penalty_factor": 100.0, "grid_spacing": None,
         "contact_model": "zone", "zone_gap_limit_um": 40.0,
-        "linear_solver": "mumps", "linear_tolerance": None,
+        "linear_solver": "mumps", "linear_tolerance": None, "root_fillets": "auto",
     }  # fmt: skip
     assert sc["material"] == {
         "youngs_modulus": 206e3,

@@ -151,7 +151,7 @@ def test_positions_of_a_study_share_the_body_meshes(case, kind):
     for n in sorted({study.model.positions, 12}):
         keys, fine_here = set(), {}
         for roll in roll_angles(study, n):
-            sc = scenes.build_scene(kind, study.gearset, roll)
+            sc = scenes.build_scene(kind, study.gearset, roll, fine_fillets=True)
             keys.add(tuple(cache.key("body", body_params(g.body, 1, g.active_teeth))
                            for g in sc.gears))  # fmt: skip
             for zn in sc.zones:
@@ -175,10 +175,30 @@ def test_planets_in_phase_get_the_same_bodies_up_to_labels():
     planet and the union held both labels of a tooth for some: 5, 5 and 4 fine fillets.)"""
     from cases.study_case import load_study_case
 
-    sc = scenes.build_scene("all_planets", load_study_case("parker2000-3").gearset, 0.0)
+    sc = scenes.build_scene("all_planets", load_study_case("parker2000-3").gearset, 0.0,
+                            fine_fillets=True)  # fmt: skip
     planets = [sc.gear(n) for n in sc.pinion_names]
     assert len({len(g.body.fine_fillets) for g in planets}) == 1
     assert len({len(g.active_teeth) for g in planets}) == 1
+
+
+@pytest.mark.parametrize(
+    "kind, option, refined",
+    [("one_branch", None, True), ("all_planets", None, False), ("system", None, False),
+     ("one_branch", False, False), ("all_planets", True, True)],
+)  # fmt: skip
+def test_scenes_refine_the_root_fillets_where_root_stress_is_read(kind, option, refined):
+    """One branch names the cycle's tension fillets (the root stress is read there); the
+    all-planet and system scenes name none by default (every fillet at fillet_far, no root
+    stress; numerics.root_fillets), and say so in their notes. Same teeth refined either
+    way: only the fillets differ."""
+    sc = scenes.build_scene(kind, CASE1, 0.0, fine_fillets=option)
+    assert scenes.reads_root_stress(sc) is refined
+    fine = [g.body.fine_fillets for g in sc.gears]
+    assert all(f == () for f in fine) is (not refined)
+    assert any("no root stress read" in n for n in sc.notes) is (not refined)
+    other = scenes.build_scene(kind, CASE1, 0.0, fine_fillets=not refined)
+    assert [g.active_teeth for g in other.gears] == [g.active_teeth for g in sc.gears]
 
 
 def test_teeth_in_mesh_are_refined(all_scenes):

@@ -9,6 +9,7 @@ import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -33,7 +34,17 @@ def stiff_system():
 
 @pytest.fixture(scope="module")
 def branch_ga():
-    return solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0)
+    """1-GA in the one-branch scene with the system scene's coarse root fillets (like with
+    like: finer fillets make the teeth more compliant)."""
+    study = load_study_case("1-GA")
+    study = replace(study, numerics=replace(study.numerics, root_fillets="coarse"))
+    return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
+
+
+def test_root_stress_is_read_only_on_refined_fillets(stiff_system, branch_ga):
+    """Neither scene refines its fillets here (system: by default; branch: coarse), so
+    neither reports a root stress: a value on 1 mm fillets would be a third low."""
+    assert stiff_system["bending_stress"] is None and branch_ga["bending_stress"] is None
 
 
 def test_torque_balance_and_load_shares(stiff_system):
@@ -63,7 +74,7 @@ def test_pinion_on_stiff_carrier_matches_the_branch(stiff_system, branch_ga):
     """Pinion 1 of the system scene (near-rigid carrier, rigid bearings) against the
     one-branch scene (rigid carrier, sun held): My_pin differs by its load share (0.980,
     above: the floating sun gives pinion 1 2 % less load); per unit of load the two agree
-    within 0.5 % (measured 0.05 %: full sun and ring instead of sectors, the floating sun)."""
+    within 0.5 % (measured 0.11 %: full sun and ring instead of sectors, the floating sun)."""
     b1 = stiff_system["branches"][0]
     assert b1["My_pin"] == pytest.approx(branch_ga["My_pin"], rel=0.03)
     assert b1["My_pin"] / b1["load_share"] == pytest.approx(branch_ga["My_pin"], rel=5e-3)
