@@ -30,7 +30,8 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 
 # The main study, one step after the other; the first stamps the start time, the last (the
 # recipe) writes results/report.md with the wall time of the whole run (results/bench/make_all.json).
-all: start-clock setup analytic meshes convergence-main case1 case2 ## set up and run the main study: results/report.md
+MAIN_CONVERGENCE ?= convergence-main
+all: start-clock setup analytic meshes $(MAIN_CONVERGENCE) case1 case2 ## set up and run the main study: results/report.md
 	@$(MAKE) --no-print-directory report STARTED=$(RESULTS)/bench/.make_start
 
 start-clock:
