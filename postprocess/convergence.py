@@ -24,6 +24,10 @@ extrapolation, and the uncertainty of every level falls back to the spread of th
   extrapolation would multiply the last change by more than five, more than three grids
   support.
 
+Where only two grids fit in memory (case 2 at level 2 would need about twice this machine's
+memory), :func:`two_grid` gives Roache's two-grid GCI with the formal order assumed
+(:data:`FORMAL_ORDER`) and the factor of safety 3: an uncertainty, no extrapolated value.
+
 A run off the ladder (another degree, e.g. P2 at the coarsest level) is compared with the
 extrapolated value in the same way (:func:`off_ladder`).
 
@@ -67,7 +71,7 @@ class Richardson:
     """The convergence of one scalar over three grids (values per grid as given: same
     order as the ``h`` and ``f`` passed to :func:`richardson`)."""
 
-    status: str  # monotone, oscillatory, divergent, stagnant, mesh-independent
+    status: str  # monotone, oscillatory, divergent, stagnant, mesh-independent, two-grid
     order: float | None  # observed order p (None unless solved)
     extrapolated: float | None  # f_ext (None unless monotone)
     rel_error: tuple[float | None, ...]  # (f_k - f_ext) / |f_ext| per grid
@@ -189,6 +193,59 @@ def richardson(
         uncertainty_abs=tuple(safety * abs(v - f_gci) for v in f),
         gci_order=p_gci,
         note=note,
+    )
+
+
+SAFETY_TWO_GRID = 3.0  # Roache's factor of safety when the order is assumed, not observed
+FORMAL_ORDER = {"stress": 1.0}  # P1: point stresses O(h); moments, offsets (integrals) O(h^2)
+
+
+def two_grid(
+    h: Sequence[float],
+    f: Sequence[float],
+    order: float,
+    *,
+    safety: float = SAFETY_TWO_GRID,
+    zero_scale: float = 0.0,
+) -> Richardson:
+    """Roache's two-grid GCI with an assumed (formal) ``order`` p, for a ladder where the
+    third grid does not fit in memory: with r = h2 / h1 (h1 < h2) and e21 = f2 - f1,
+
+        GCI_fine = Fs |e21| / (r^p - 1) / |f1|,   GCI_coarse = Fs |e21| r^p / (r^p - 1) / |f2|,
+
+    Fs = 3 (the order is not verified by a third grid). No extrapolated value and no error:
+    two grids cannot tell whether they are in the asymptotic range; status ``two-grid``
+    (``mesh-independent`` if the two agree to round-off)."""
+    if len(h) != 2 or len(f) != 2:
+        raise ValueError(f"two_grid needs two grids, got {len(h)} sizes and {len(f)} values")
+    if not all(math.isfinite(v) for v in (*h, *f)) or min(h) <= 0.0 or h[0] == h[1]:
+        raise ValueError(f"two_grid needs finite values and two sizes h > 0, got h={h}, f={f}")
+    if not order > 0.0:
+        raise ValueError(f"two_grid needs an order > 0, got {order}")
+    fine, coarse = sorted(range(2), key=lambda i: h[i])
+    r = h[coarse] / h[fine]
+    e21 = f[coarse] - f[fine]
+    big = max(abs(v) for v in f)
+    if abs(e21) <= SAME_RTOL * big:
+        return Richardson("mesh-independent", None, None, (None, None), (0.0, 0.0), (0.0, 0.0),
+                          None, "the same value on both grids")  # fmt: skip
+    rp = r**order
+    unc_abs = [0.0, 0.0]
+    unc_abs[fine] = safety * abs(e21) / (rp - 1.0)
+    unc_abs[coarse] = safety * abs(e21) * rp / (rp - 1.0)
+    unc = tuple(
+        None if abs(v) <= zero_scale else u / abs(v) for u, v in zip(unc_abs, f, strict=True)
+    )
+    return Richardson(
+        status="two-grid",
+        order=None,
+        extrapolated=None,
+        rel_error=(None, None),
+        uncertainty=unc,
+        uncertainty_abs=tuple(unc_abs),
+        gci_order=order,
+        note=f"two grids: GCI with the assumed order {order:g} and Fs {safety:g}, no "
+        "extrapolation (a third grid did not fit)",
     )
 
 

@@ -24,6 +24,7 @@ extrapolation (not monotone) its error is bounded by the spread of the levels in
 from __future__ import annotations
 
 from postprocess.convergence import (
+    FORMAL_ORDER,
     MOMENT_RTOL,
     NEAR_ZERO,
     STRESS_RTOL,
@@ -31,6 +32,7 @@ from postprocess.convergence import (
     richardson,
     run_label,
     scalar_kind,
+    two_grid,
     unit,
 )
 
@@ -95,12 +97,28 @@ def scalar_table(rows: list[dict], degree: int = 1) -> dict[str, dict]:
         f = [r["scalars"][key] for r in lad]
         if abs(f[-1]) <= zs:  # zero by physics (Mz of a pinion free to spin): no target
             entry.update(target=None, near_zero=True)
+        if len(lad) == 2:  # the third grid did not fit: Roache's two-grid GCI
+            res = two_grid([_h(r, key) for r in lad], f, FORMAL_ORDER.get(kind, 2.0),
+                           zero_scale=zs)  # fmt: skip
+            labels = [run_label(r["level"], r["degree"]) for r in lad]
+            entry.update(
+                status=res.status,
+                order=None,
+                extrapolated=None,
+                gci_order=res.gci_order,
+                note=res.note,
+                rel_error=dict.fromkeys(labels),
+                uncertainty=dict(zip(labels, res.uncertainty, strict=True)),
+                uncertainty_abs=dict(zip(labels, res.uncertainty_abs, strict=True)),
+            )
+            table[key] = entry
+            continue
         if len(lad) < 3:
             entry.update(
                 status="incomplete",
                 order=None,
                 extrapolated=None,
-                note=f"{len(lad)} h-level(s) finished, three needed",
+                note=f"{len(lad)} h-level(s) finished, two or three needed",
             )
             table[key] = entry
             continue

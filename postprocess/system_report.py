@@ -63,7 +63,7 @@ def _inputs(s: dict) -> str:
 
 
 def root_fillets(s: dict) -> str:
-    """"refined" or "coarse": the root fillets a summary's scene was meshed with
+    """The root fillets ("refined" or "coarse") a summary's scene was meshed with
     (``numerics.root_fillets``; "auto", or absent in older summaries: refined in the
     one-branch scene only, :func:`meshing.scenes.planetary_scene`)."""
     choice = s["inputs"]["study_case"].get("numerics", {}).get("root_fillets", "auto")
@@ -78,14 +78,18 @@ def _fillet_note(branch: dict, system: dict) -> str:
                    and root_fillets(branch[n]) != root_fillets(system[n]))  # fmt: skip
     used = sorted({root_fillets(r) for r in (*branch.values(), *system.values())})
     if mixed:
-        return (f"**Not like with like**: {', '.join(mixed)} ran with refined root fillets in one "
-                "scene and coarse ones in the other; finer fillets make the teeth more "
-                "compliant and move the moments by 1-3 % (README, case-1 study), which this "
-                "comparison then mixes into the carrier's effect. Run the branch with "
-                "`--root-fillets coarse` (`make case1-system` does).")
-    return (f"Both scenes ran with {used[0] if len(used) == 1 else ' and '.join(used)} root "
-            "fillets (every fillet at the level's fillet_far size, no root stress read), so "
-            "the differences below are the system's, not the fillets' (numerics.root_fillets).")
+        return (
+            f"**Not like with like**: {', '.join(mixed)} ran with refined root fillets in one "
+            "scene and coarse ones in the other; finer fillets make the teeth more "
+            "compliant and move the moments by 1-3 % (README, case-1 study), which this "
+            "comparison then mixes into the carrier's effect. Run the branch with "
+            "`--root-fillets coarse` (`make case1-system` does)."
+        )
+    return (
+        f"Both scenes ran with {used[0] if len(used) == 1 else ' and '.join(used)} root "
+        "fillets (every fillet at the level's fillet_far size, no root stress read), so "
+        "the differences below are the system's, not the fillets' (numerics.root_fillets)."
+    )
 
 
 def _per_pair(system: dict, quantities) -> list[str]:
@@ -311,9 +315,10 @@ def _pin_error_reading(rows) -> list[str]:
     if fl is not None:
         out.append(
             f"Floating sun: K_gamma {fl[0]:.4f} to {fl[1]:.4f} over the errors "
-            f"({100 * (fl[1] - fl[0]):.2f} % of the mean load): three mesh forces balance a free sun, so a "
-            "pin error moves the sun rather than the shares (exactly so for forces on the "
-            "planes of action; contact off them, at tip corners, leaves what remains)."
+            f"({100 * (fl[1] - fl[0]):.2f} % of the mean load): three mesh forces balance a "
+            "free sun, so a pin error moves the sun rather than the shares (exactly so for "
+            "forces on the planes of action; contact off them, at tip corners, leaves what "
+            "remains)."
         )
     if sup is not None:
         out.append(

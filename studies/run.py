@@ -207,7 +207,8 @@ def run_study(
             raise InputError(f"root_fillets = {root_fillets!r}: must be one of "
                              f"{', '.join(ROOT_FILLETS)}")  # fmt: skip
         study = dataclasses.replace(
-            study, numerics=dataclasses.replace(study.numerics, root_fillets=root_fillets))
+            study, numerics=dataclasses.replace(study.numerics, root_fillets=root_fillets)
+        )
     store = BodyStore() if store is None else store
     level, n_pos = _checked_settings(study, level, positions)
     out = _output_folder(study, out_root)

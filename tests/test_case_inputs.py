@@ -148,8 +148,12 @@ def test_numerics_values_are_read():
         ("grid_spacing", 0.01, r"numerics\.grid_spacing = 0\.01"),
         ("grid_spacing", 5.5, r"numerics\.grid_spacing = 5\.5"),
         ("grid_spacing", math.inf, r"numerics\.grid_spacing = inf"),
-        ("root_fillets", "fine", r"numerics\.root_fillets = 'fine': must be one of 'auto', "
-         r"'refined', 'coarse'"),
+        (
+            "root_fillets",
+            "fine",
+            r"numerics\.root_fillets = 'fine': must be one of 'auto', "
+            r"'refined', 'coarse'",
+        ),
     ],
 )
 def test_numerics_range_errors(key, value, match):

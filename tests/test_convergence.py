@@ -250,3 +250,21 @@ def test_fe_thick_cylinder_recovers_p1_order_and_the_exact_limit(cells):
     assert extrapolated < finest / 4  # the extrapolation removes most of the error
     assert extrapolated < 1e-3  # and lands on the closed form
     assert res.uncertainty[-1] >= finest  # the GCI bounds the true error of the finest grid
+
+
+def test_two_grid_gci_is_roache_with_the_assumed_order():
+    """Two grids of f = 10 + 2 h^2 (the assumed order exact): the fine grid's GCI is Fs = 3
+    times its true error, the coarse grid's likewise; no extrapolation is claimed."""
+    h = [0.7, 1.0]  # fine, coarse (the case levels 1 and 0)
+    f = [10.0 + 2.0 * x**2 for x in h]
+    res = cv.two_grid(h, f, 2.0)
+    assert res.status == "two-grid" and res.extrapolated is None
+    assert res.uncertainty_abs[0] == pytest.approx(3.0 * abs(f[0] - 10.0), rel=1e-12)
+    assert res.uncertainty_abs[1] == pytest.approx(3.0 * abs(f[1] - 10.0), rel=1e-12)
+    assert res.uncertainty[0] == pytest.approx(res.uncertainty_abs[0] / f[0], rel=1e-12)
+    # a real order above the assumed one: the GCI still bounds the true error
+    g = [10.0 + 2.0 * x**4 for x in h]
+    assert cv.two_grid(h, g, 2.0).uncertainty_abs[0] > abs(g[0] - 10.0)
+    assert cv.two_grid(h, [5.0, 5.0], 1.0).status == "mesh-independent"
+    with pytest.raises(ValueError, match="two sizes"):
+        cv.two_grid([1.0, 1.0], [1.0, 2.0], 1.0)

@@ -168,3 +168,17 @@ def test_failed_child_is_a_row_with_its_error():
     row = run_child("studies.convergence", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120)
     assert row["level"] == 0 and "exit code" in row["error"]
     assert any("no-such-case" in line for line in row["stderr_tail"])
+
+
+def test_two_levels_give_the_two_grid_gci():
+    """A ladder of two levels (the third did not fit): every scalar gets Roache's two-grid
+    GCI at both levels with the formal order of its kind (stress 1, moment 2), no
+    extrapolated value and no error."""
+    table = scalar_table(ROWS[:2])
+    my, bs = table["My_pin"], table["bending_stress.sun"]
+    assert my["status"] == bs["status"] == "two-grid"
+    assert my["extrapolated"] is None and my["rel_error"] == {"L0P1": None, "L1P1": None}
+    assert (my["gci_order"], bs["gci_order"]) == (2.0, 1.0)
+    r = LEVELS[0].fine / LEVELS[1].fine
+    e21 = ROWS[0]["scalars"]["My_pin"] - ROWS[1]["scalars"]["My_pin"]
+    assert my["uncertainty_abs"]["L1P1"] == pytest.approx(3.0 * abs(e21) / (r**2 - 1.0))
