@@ -154,12 +154,13 @@ def scalar_table(rows: list[dict], degree: int = 1) -> dict[str, dict]:
 
 
 def _error_bound(entry: dict, label: str) -> tuple[float | None, str]:
-    """The relative error of a run (or, without an extrapolation, its spread bound)."""
+    """The relative error of a run (or, without an extrapolation, its uncertainty: the
+    spread bound, or the two-grid GCI)."""
     if entry.get("extrapolated") is not None:
         e = entry["rel_error"].get(label)
         return (None if e is None else abs(e)), "error"
     u = entry.get("uncertainty", {}).get(label)
-    return u, "spread bound"
+    return u, "two-grid GCI" if entry.get("status") == "two-grid" else "spread bound"
 
 
 def recommend(rows: list[dict], table: dict[str, dict]) -> dict:
