@@ -155,29 +155,30 @@ bench-contact: $(STAMP) ## line vs zone contact model: results/bench/contact_gri
 # step, skipped with a note when less than 16 GB are free: it peaks at ~14 GB), one mesh
 # position, each run in its own process (time, peak memory); Richardson extrapolation of every
 # summary scalar, the error and uncertainty of each run, the level to use, a speed-against-
-# error chart. Finished runs are reused while inputs and code are unchanged. CONV_EXTRA= (empty)
+# error chart. CONV_LEVELS="0 1" for case 2, whose level 2 does not fit in 23 GB (two levels:
+# Roache's two-grid GCI). Finished runs are reused while inputs and code are unchanged. CONV_EXTRA= (empty)
 # leaves the P2 run out; POSITIONS=5 studies the summary's means and cycle maxima exactly
 # (about 3x the time).
 .PHONY: convergence
 CONV_EXTRA ?= 0:2
+CONV_LEVELS ?= 0 1 2
 POSITIONS ?= 1
 convergence: $(STAMP) ## discretisation error of every scalar: make convergence CASE=1-GB -> results/convergence/<case>/
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make convergence CASE=1-GB" >&2; exit 2; }
-	$(PY) -m studies.convergence $(CASE) --levels 0 1 2 --extra $(CONV_EXTRA) \
+	$(PY) -m studies.convergence $(CASE) --levels $(CONV_LEVELS) --extra $(CONV_EXTRA) \
 	  --positions $(POSITIONS) --out $(RESULTS)/convergence
 
 # The convergence study behind the ± of the case summaries, in the main `make` (before the
-# cases, whose summaries read it): 1-GB at levels 0 1 2, one position, no P2. Measured on 2
-# cores: 2 min quiet, 3.5 min with other jobs running, peak 10.1 GB (level 2): `make` stays
-# near 10 min and under 12 GB. It serves every case-1 case (same gear set, scene, numerics).
-# Case 2 is not in `make`: 2B-GA's level 2 peaks at 14.8 GB (2.3 min), over the budget of the
-# main run; run `make convergence CASE=2B-GA CONV_EXTRA=` once and later case-2 summaries pick
-# it up (until then they say `uncertainty: null` and why). P2 (14 GB, 2-5 min) only in
-# `make convergence`.
+# cases, whose summaries read it), one position each, no P2: 1-GB at levels 0 1 2 (peak
+# 16.3 GB at level 2, 1.1M DOFs: the fine root fillets) serves every case-1 case (same gear
+# set, scene, numerics); 2B-GA at levels 0 1 (Roache's two-grid GCI: its level 2 would need
+# about 25 GB) serves case 2. `make MAIN_CONVERGENCE=` leaves both out (summaries then say
+# `uncertainty: null` and why). P2 only in `make convergence`.
 # Finished runs are reused while inputs and code are unchanged.
 .PHONY: convergence-main
 convergence-main: $(STAMP)
 	$(PY) -m studies.convergence 1-GB --levels 0 1 2 --extra --out $(RESULTS)/convergence
+	$(PY) -m studies.convergence 2B-GA --levels 0 1 --extra --out $(RESULTS)/convergence
 
 # The case-1 speed-against-error benchmark is the convergence study of 1-GB (with P2).
 bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
