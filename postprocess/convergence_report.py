@@ -233,7 +233,9 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
     axes[0].set_ylabel("|error| relative to the extrapolated value")
     axes[0].legend(fontsize=8, loc="best", framealpha=0.9)
     fig.suptitle(
-        f"{conv['case']}: speed against error (hollow: spread bound or two-grid GCI, no extrapolation)", fontsize=10
+        f"{conv['case']}: speed against error (hollow: spread bound or two-grid GCI, no "
+        "extrapolation)",
+        fontsize=10,
     )
     fig.tight_layout()
     fig.savefig(path, dpi=120)

@@ -10,7 +10,9 @@ spaced over one base pitch, as ``studies.run``) in a fresh child process
 (:mod:`studies.position_runs`), so the wall time and peak memory are those of the run alone,
 and reduces them to the summary's scalars (means over the positions, stress maxima over
 them). A run is written to ``<out>/<case>/runs/<run>.json`` and reused by a later study only
-when it was solved from the same inputs, code, level, degree and positions. ``--extra`` runs
+when it was solved from the same inputs, code, level, degree and positions. Two levels
+(where the third does not fit in memory, e.g. case 2 at level 2) give Roache's two-grid GCI
+(:func:`postprocess.convergence.two_grid`), no extrapolation. ``--extra`` runs
 (another degree) are compared with the h-ladder's extrapolation; each one is started only if
 ``MemAvailable`` is at least ``--min-free-gb`` (a level-0 P2 run of a case-1 branch peaks at
 about 14 GB) and is otherwise skipped with the reason in the report. A run that fails (out
@@ -83,10 +85,10 @@ def _check(args) -> list[tuple[int, int]]:
             sizing.check_level(lv)
         except ValueError as exc:
             raise InputError(f"--levels: {exc}") from exc
-    if len(set(args.levels)) < 3:
+    if len(set(args.levels)) < 2:
         raise InputError(
-            f"--levels {args.levels}: give at least three different levels "
-            "(Richardson extrapolation needs three grids)"
+            f"--levels {args.levels}: give at least two different levels (three for "
+            "Richardson extrapolation; two give Roache's two-grid GCI only)"
         )
     if not 1 <= args.positions <= MAX_POSITIONS:
         raise InputError(f"--positions {args.positions}: must be 1 to {MAX_POSITIONS}")
@@ -202,7 +204,7 @@ def main(argv=None) -> int:
         type=int,
         nargs="+",
         default=[0, 1, 2],
-        help="h-levels at degree 1 (the three finest are extrapolated)",
+        help="h-levels at degree 1 (the three finest are extrapolated; two: the two-grid GCI)",
     )
     ap.add_argument(
         "--extra",

@@ -141,12 +141,15 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
     # (other numerics)
     line = replace(ga, numerics=replace(ga.numerics, contact_model="line"))
     assert summary_uncertainty(line, 1, 1, tmp_path)["uncertainty"] is None
+    # nor a run on coarse root fillets (more compliant teeth: another model)
+    coarse = replace(ga, numerics=replace(ga.numerics, root_fillets="coarse"))
+    assert summary_uncertainty(coarse, 1, 1, tmp_path)["uncertainty"] is None
 
 
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["1-GB", "--levels", "0", "1"], "--levels"),
+        (["1-GB", "--levels", "1", "1"], "--levels"),
         (["1-GB", "--extra", "0:3"], "--extra '0:3': the degree must be 1 or 2"),
         (["1-GB", "--extra", "x"], "must be LEVEL:DEGREE"),
         (["1-GB", "--levels", "0", "1", "9"], "level = 9"),
