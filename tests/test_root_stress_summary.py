@@ -67,5 +67,5 @@ def test_correction_note_reports_the_clipped_body_correction():
         "1-GB": {"contact_correction_clipped": None},
     }
     text = " ".join(correction_note(runs))
-    assert "1-GA 0.06" in text and "1-GB" not in text
+    assert "eigenvalue: 1-GA 0.06 (0: nothing" in text
     assert correction_note({"x": {}}) == []
