@@ -378,9 +378,15 @@ def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dic
             continue
         rel[key] = s["uncertainty"][label]
         absolute[key] = s["uncertainty_abs"][label]
+    two = any(s.get("status") == "two-grid" for s in study["scalars"].values())
+    src["method"] = "two-grid" if two else "three-grid"
+    how = (
+        f"Roache's two-grid GCI with Fs {SAFETY_TWO_GRID:g} and the formal order"
+        if two
+        else f"GCI with Fs {SAFETY}, or the spread of the levels where convergence is not monotone"
+    )
     src["note"] = (
-        "relative discretisation uncertainty of each scalar at this level and degree (GCI "
-        f"with Fs {SAFETY}, or the spread of the levels where convergence is not monotone), "
+        f"relative discretisation uncertainty of each scalar at this level and degree ({how}), "
         "from the study's position(s); a case sharing the gear set, scene and numerics uses "
         "the same study"
     )
@@ -409,7 +415,8 @@ def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
     for name, s in summaries.items():
         src = s.get("uncertainty_source") or {}
         if s.get("uncertainty") and src.get("convergence_study"):
-            label = f"{src['convergence_study']} ({src.get('run')})"
+            two = " two levels only" if src.get("method") == "two-grid" else ""
+            label = f"{src['convergence_study']} ({src.get('run')}{two})"
             by_study.setdefault(label, []).append(name)
         else:
             without.append(name)
@@ -417,7 +424,9 @@ def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
     text = (
         "± : discretisation uncertainty of the value at its mesh level (GCI with factor of "
         "safety 1.25 from a Richardson extrapolation over mesh levels 0-2, or the spread of "
-        "the levels where they do not converge monotonically; offsets in mm absolute); "
+        "the levels where they do not converge monotonically; where only levels 0-1 fit, "
+        "Roache's two-grid GCI with factor of safety 3 and the formal order; offsets in mm "
+        "absolute); "
     )
     text += "; ".join(parts) if parts else "no case has one"
     if without and parts:

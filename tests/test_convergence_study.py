@@ -185,3 +185,18 @@ def test_two_levels_give_the_two_grid_gci():
     r = LEVELS[0].fine / LEVELS[1].fine
     e21 = ROWS[0]["scalars"]["My_pin"] - ROWS[1]["scalars"]["My_pin"]
     assert my["uncertainty_abs"]["L1P1"] == pytest.approx(3.0 * abs(e21) / (r**2 - 1.0))
+
+
+def test_without_a_recommendation_the_note_says_which_kind_meets_its_target():
+    """Moments converged, a root stress not: the note names the cheapest run with every
+    moment within 1 % and the stress families that fail; a face-end root stress (a corner
+    value that grows with refinement) is not a target."""
+    rows = [dict(r, scalars=dict(r["scalars"])) for r in ROWS[:3]]
+    for k, r in enumerate(rows):
+        r["scalars"]["bending_stress.sun"] = 700.0 * (1 + 0.1 * (-1) ** k)  # oscillates 20 %
+        r["scalars"]["bending_stress_face_end.sun"] = 300.0 * (1 + k)  # grows with refinement
+    table = scalar_table(rows)
+    assert table["bending_stress_face_end.sun"]["target"] is None
+    note = recommend(rows, table)["note"]
+    assert "every moment within 1% from L2P1 on" in note
+    assert "no run has every stress within 5% (failing: bending_stress)" in note

@@ -55,3 +55,17 @@ def test_report_sections_print_fe_beside_iso():
     # a summary without the contact cycle prints no row, and old summaries do not fail
     assert len(contact_section({"1-GA": {}}, ("sun_pinion",), ["1-GA"])) > 5
     assert root_section({"old": {"bending_stress": {"sun": 1.0}}}, ("sun",), ["old"])
+
+
+def test_correction_note_reports_the_clipped_body_correction():
+    """The case reports say how much of the zone model's FE body correction was clipped
+    (eq. (6)), per run; runs without the entry (line grid, older summaries) say nothing."""
+    from postprocess.stress_tables import correction_note
+
+    runs = {
+        "1-GA": {"contact_correction_clipped": 0.0612},
+        "1-GB": {"contact_correction_clipped": None},
+    }
+    text = " ".join(correction_note(runs))
+    assert "eigenvalue: 1-GA 0.06 (0: nothing" in text
+    assert correction_note({"x": {}}) == []

@@ -59,6 +59,9 @@ def test_summary_contract(study):
     assert set(summary["bending_stress_iso6336_nominal"]) == {
         "sun", "pinion_sun_side", "pinion_ring_side", "ring"}  # fmt: skip
     assert summary["level"] == 0 and summary["dofs"] == files[0]["dofs"]
+    # the zone model's clipped body correction: the largest over the positions
+    clipped = max(f["timings"]["correction_clipped"] for f in files)
+    assert summary["contact_correction_clipped"] == clipped and 0.0 <= clipped < 1.0
     assert summary["failed_positions"] == [] and summary["warnings"] == []
     # A picture that cannot be drawn, a field write that fails or an implausible stress is a
     # warning on stderr, not an error: none here.
