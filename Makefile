@@ -98,8 +98,8 @@ case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/
 # branch reference runs the one-branch scene the same way, so the comparison is like with like.
 # Case 2 in the system scene: sun, the three SP-RP pairs, ring and the carrier with six pins
 # (an SP and an RP pin per pair), each pinion on its bearing to its own pin. At the case files'
-# level 1 (1.4 M DOFs): 8.5 min serial, peak 15.5 GB; SYSTEM_LEVEL=0 (0.73 M DOFs, 5.8 GB)
-# on a smaller machine.
+# level 1 (1.0M DOFs, coarse root fillets): 8.8 min serial with the branch reference, peak
+# 11.2 GB; SYSTEM_LEVEL=0 on a smaller machine.
 SYSTEM_LEVEL ?=
 case2-system: $(STAMP) ## case 2 in the system scene (six carrier pins): results/case2-system/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --scene system \
