@@ -34,9 +34,10 @@ The fillet-only ladder (meshing/sizing.py docstring)
 finds the P1 surface value levelling off, within a 5 % scatter, at fillet sizes of
 0.12-0.15 mm; at the old level-1 fillet (0.45 mm) it was 24-32 % lower. The scenes now
 refine the tension fillets of the teeth loaded in the mesh cycle (``GearBody.fine_fillets``)
-to the level's ``fillet`` size, 0.15 mm at level 1 (1-GB at roll 0: 1.5-8 % below the 0.12
-mm values, the pinion the most); level 0 (0.45 mm) is a smoke value, 24-37 % low. P2 at
-level 0 (0.6 mm fillets) is 9-12 % below the 0.12 mm P1 values (before the fine fillets, on
+to the level's ``fillet`` size, 0.15 mm at level 1 (1-GB at roll 0, the convergence study
+of ``make``: 3-8 % below level 2's 0.12 mm); level 0 (0.45 mm) is a smoke value, 23-35 %
+below level 1. P2 at level 0 (0.45 mm fillets) is 0.5-8 % below P1 at level 2 (with the
+earlier 0.6 mm fillets it was 9-12 % below the 0.12 mm P1 values; before the fine fillets, on
 1-GA at roll 0, P1 gave 0.64-0.70 of P2 level 0 at level 0, 0.68-0.78 at level 1 and
 0.85-0.96 at level 2). The maximum principal stress (tension positive) of the
 nodal tensors is evaluated
