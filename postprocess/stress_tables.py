@@ -12,9 +12,17 @@ contact_stress_cycle`). Older summaries without a field print "-".
 
 from __future__ import annotations
 
+from postprocess.convergence import plus_minus
+
 
 def _f(v, fmt: str = ".0f") -> str:
     return "-" if v is None else format(v, fmt)
+
+
+def _pm(summary: dict, group: str, key: str, values: dict) -> str:
+    """`` ± x`` of ``group.key`` from the summary's uncertainty ('' without one)."""
+    v = values.get(key)
+    return "" if v is None else plus_minus(summary, f"{group}.{key}", ".0f", v)
 
 
 def _ratio(a, b) -> str:
@@ -80,8 +88,9 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
                 "| | ")  # fmt: skip
             iso_txt = f"{_f(sig)} ({_f(sig19)})" if sig19 else _f(sig)
             lines.append(
-                f"{head}| {_label(k)} | {_f(fe.get(k))} | {where} | {_f(end.get(k))} | "
-                f"{_f(tan.get(k))} | "
+                f"{head}| {_label(k)} | {_f(fe.get(k))}{_pm(s, 'bending_stress', k, fe)} | "
+                f"{where} | {_f(end.get(k))} | "
+                f"{_f(tan.get(k))}{_pm(s, 'bending_stress_tangent', k, tan)} | "
                 f"{_f(cell.get(k))} | {iso_txt} | {_ratio(fe.get(k), sig)} | "
                 f"{_ratio(tan.get(k), sig)} |"
             )
@@ -211,7 +220,9 @@ def contact_section(runs: dict[str, dict], meshes, order) -> list[str]:
             at = (c.get("interior_at") or {}).get("s_mm")
             lines.append(
                 f"| {name if first else ''} | {m.replace('_', '-')} | "
-                f"{_f(c.get('interior_p_max_MPa'))} | {_f(at, '+.2f')} | "
+                f"{_f(c.get('interior_p_max_MPa'))}"
+                f"{_pm(runs[name], f'contact_stress_cycle.{m}', 'interior_p_max_MPa', c)} | "
+                f"{_f(at, '+.2f')} | "
                 f"{_f(c.get('hertz_pitch_w_max_MPa'))} | {_f(c.get('hertz_pitch_w_mean_MPa'))} | "
                 f"{_f(c.get('sigma_H0_MPa'))} | {_f(c.get('K_Hbeta'), '.2f')} | "
                 f"{_f(c.get('sigma_H_MPa'))} | "

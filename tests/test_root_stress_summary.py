@@ -55,6 +55,11 @@ def test_report_sections_print_fe_beside_iso():
     # a summary without the contact cycle prints no row, and old summaries do not fail
     assert len(contact_section({"1-GA": {}}, ("sun_pinion",), ["1-GA"])) > 5
     assert root_section({"old": {"bending_stress": {"sun": 1.0}}}, ("sun",), ["old"])
+    # with a convergence study's uncertainty, the ± beside the FE values (issue 13)
+    s["uncertainty"] = {"bending_stress.sun": 0.25, "bending_stress_tangent.sun": 0.1}
+    text = "\n".join(root_section({"1-GA": s}, ("sun", "ring"), ["1-GA"]))
+    assert "| sun | 600 ± 150 | 3, pos, +0.0 | - | 580 ± 58 | 500 |" in text
+    assert "| | ring | 450 |" in text  # no uncertainty for it: no ±
 
 
 def test_correction_note_reports_the_clipped_body_correction():
