@@ -570,7 +570,7 @@ def _assemble_scene(
 def reads_root_stress(scene) -> bool:
     """Whether ``scene`` refines fillets to read the root stress on (some body names fine
     fillets, :func:`planetary_scene`)."""
-    return any(g.body.fine_fillets for g in scene.gears if hasattr(g.body, "fine_fillets"))
+    return any(g.body.fine_fillets for g in scene.gears)
 
 
 #: The scenes a study case may name (``model.scene``), each ``builder(gearset, roll, **opts)``.

@@ -63,13 +63,10 @@ def _inputs(s: dict) -> str:
 
 
 def root_fillets(s: dict) -> str:
-    """The root fillets ("refined" or "coarse") a summary's scene was meshed with
-    (``numerics.root_fillets``; "auto", or absent in older summaries: refined in the
-    one-branch scene only, :func:`meshing.scenes.planetary_scene`)."""
-    choice = s["inputs"]["study_case"].get("numerics", {}).get("root_fillets", "auto")
-    if choice == "auto":
-        return "refined" if s.get("scene") == "one_branch" else "coarse"
-    return choice
+    """The root fillets ("refined" or "coarse") a summary's scene was meshed with, from what
+    the run recorded: a scene reads the root stress only on refined fillets
+    (:func:`meshing.scenes.reads_root_stress`), so a summary with a root stress had them."""
+    return "refined" if s.get("bending_stress") else "coarse"
 
 
 def _fillet_note(branch: dict, system: dict) -> str:
