@@ -230,7 +230,7 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
         minor = FormatStrFormatter("%g") if xkey == "peak_rss_mb" else NullFormatter()
         ax.xaxis.set_minor_formatter(minor)
         ax.yaxis.set_major_formatter(PercentFormatter(1.0, decimals=None))
-    axes[0].set_ylabel("|error| relative to the extrapolated value")
+    axes[0].set_ylabel("|error| against the extrapolation, or its bound (hollow)")
     axes[0].legend(fontsize=8, loc="best", framealpha=0.9)
     fig.suptitle(
         f"{conv['case']}: speed against error (hollow: spread bound or two-grid GCI, no "
