@@ -50,6 +50,10 @@ LINEAR_SOLVERS = ("mumps", "mumps-blr", "cg-gamg")
 # all-planet and system scenes (refining every planet's loaded fillets would double their
 # DOFs); "coarse" = every fillet at fillet_far, and no root stress is reported.
 ROOT_FILLETS = ("auto", "refined", "coarse")
+# How the root stress is read where the scene reads it (solvers.root_submodel): "submodel" =
+# on a P2 submodel of the loaded teeth with finer fillets, driven by the global solution;
+# "global" = on the global model's own fillets (P1 there is not converged: a check only).
+ROOT_STRESS_METHODS = ("submodel", "global")
 LINEAR_TOLERANCE_RANGE = (1e-14, 1e-3)  # inclusive; BLR threshold or CG relative residual
 
 
@@ -118,6 +122,8 @@ class Numerics:
     linear_tolerance: float | None = None
     # Root fillets refined where the root stress is read, one of ROOT_FILLETS.
     root_fillets: str = "auto"
+    # Where the root stress is read, one of ROOT_STRESS_METHODS.
+    root_stress: str = "submodel"
 
     def __post_init__(self):
         d = self.degree
@@ -155,6 +161,11 @@ class Numerics:
             raise CaseError(
                 f"numerics.root_fillets = {self.root_fillets!r}: must be one of "
                 f"{', '.join(repr(m) for m in ROOT_FILLETS)}"
+            )
+        if self.root_stress not in ROOT_STRESS_METHODS:
+            raise CaseError(
+                f"numerics.root_stress = {self.root_stress!r}: must be one of "
+                f"{', '.join(repr(m) for m in ROOT_STRESS_METHODS)}"
             )
         if self.linear_solver not in LINEAR_SOLVERS:
             raise CaseError(

@@ -81,6 +81,7 @@ NOT_MESH_SHAPING: tuple[str, ...] = (
     "meshing.pictures",
     "meshing.to_dolfinx",
     "meshing.scene_bodies",
+    "meshing.submodel",  # a submodel's sector and sizes reach its mesh as GearBody and Level
 )
 
 # The sha256 of a cached .msh is checked on reuse up to this size (~0.1 s at 1.5 GB/s);

@@ -4,11 +4,13 @@ other element degree against the same extrapolation), and the cheapest run that 
 accuracy targets of issue 13.
 
 The grid size h of a level (:data:`meshing.sizing.LEVELS`, recorded in each run as ``h_mm``)
-is the element size where the scalar is read: the fillet size for the root stresses (keys
-under ``bending_stress``), the flank size for everything else (moments, load centroids and
+is the element size where the scalar is read: the size of the fillets read for the root
+stresses (keys under ``bending_stress``: the submodel's, :data:`meshing.submodel.SUBMODEL_FILLET`,
+or the global model's for ``bending_stress_global``), the flank size for everything else
+(moments, load centroids and
 contact stresses come from the flank contact; the contact grid spacing follows the flank
 size by default). The ratios are not constant (flank 1.0, 0.7, 0.45 mm: 1.43 then 1.56;
-fillet 0.6, 0.45, 0.3 mm: 1.33 then 1.5), so the generalised three-grid form is used
+submodel fillet 0.3, 0.2, 0.15 mm: 1.5 then 1.33), so the generalised three-grid form is used
 (:func:`postprocess.convergence.richardson`). As a check of that choice every scalar is also
 extrapolated with h = N_dof^(-1/3) (``extrapolated_h_dof``); the two agree when the ladder is
 in its asymptotic range. The GCI uses the observed order capped at 2 (:data:`P_CAP`: the
@@ -40,6 +42,9 @@ P_CAP = 2.0
 # Edge values, not targets: contact-grid edge points, cell peaks, and the root stress within
 # one element of a face end (a corner value that grows with refinement, solvers.root_stress).
 EDGE_PATTERNS = ("edge", "contact_stress.", ".p_max_MPa", "bending_stress_face_end.")
+# Checks, not targets: the global model's own fillet values beside a submodel's
+# (solvers.root_submodel) and the largest fillet cell value (a cell's mean, below the surface).
+CHECK_PATTERNS = ("bending_stress_global.", "bending_stress_cell.")
 
 
 def target(key: str) -> float | None:
@@ -47,13 +52,16 @@ def target(key: str) -> float | None:
     kind = scalar_kind(key)
     if kind == "moment":
         return MOMENT_RTOL
-    if kind == "stress" and not any(p in key or key.startswith(p) for p in EDGE_PATTERNS):
+    if kind == "stress" and not any(p in key for p in EDGE_PATTERNS + CHECK_PATTERNS):
         return STRESS_RTOL
     return None
 
 
 def _h(row: dict, key: str) -> float:
-    return row["h_mm"]["fillet" if key.startswith("bending_stress") else "fine"]
+    h = row["h_mm"]
+    if key.startswith("bending_stress_global"):  # the global fillets beside a submodel's
+        return h.get("global_fillet", h["fillet"])
+    return h["fillet" if key.startswith("bending_stress") else "fine"]
 
 
 def _zero_scales(row: dict) -> dict[str, float]:

@@ -2,9 +2,11 @@
 beside ISO 6336-3 (root) and ISO 6336-2 / Hertz (contact), and where and why they differ.
 
 Reads only summaries (:func:`postprocess.summary.summarise`): ``bending_stress`` (FE surface
-maximum of the max principal stress over the mesh cycle, :mod:`solvers.root_stress`),
-``bending_stress_tangent`` (on ISO's 30 / 60 deg line), ``bending_stress_cell`` (the largest
-P1 cell value, the old estimate), ``bending_stress_at``, ``bending_stress_iso6336`` (sigma_F0
+maximum of the max principal stress over the mesh cycle, :mod:`solvers.root_submodel`,
+:mod:`solvers.root_stress`),
+``bending_stress_tangent`` (on ISO's 30 / 60 deg line), ``bending_stress_global`` (read on
+submodels: the global model's own value) or ``bending_stress_cell`` (the largest cell value),
+``bending_stress_method``, ``bending_stress_at``, ``bending_stress_iso6336`` (sigma_F0
 with the 2006 and 2019 Y_beta and the factors, :func:`postprocess.mesh_stress.
 iso_root_stress_factors`) and ``contact_stress_cycle`` (:func:`postprocess.mesh_stress.
 contact_stress_cycle`). Older summaries without a field print "-".
@@ -40,38 +42,49 @@ def _label(key: str) -> str:
 def root_section(runs: dict[str, dict], keys, order) -> list[str]:
     """Markdown lines: the FE root stress against ISO 6336-3 for the cases ``order`` of
     ``runs`` (name -> summary) and the gear keys ``keys``."""
+    first = runs[order[0]] if order else {}
+    sub = "submodel" in (first.get("bending_stress_method") or "")
+    read = [
+        "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on a",
+        "P2 submodel of those teeth (`solvers/root_submodel.py`: a sector of the gear reaching a",
+        "tooth space beyond them and 2.5 modules below the root, its loaded fillets meshed at",
+        "0.3 / 0.2 / 0.15 mm at levels 0 / 1 / 2, driven at its cut faces by the global",
+        "displacement and loaded by the solved contact forces): at each fillet vertex the mean",
+        "of the surface cells' own (linear) stress there,",
+    ] if sub else [
+        "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on",
+        "the global model's fillets: at each fillet vertex the mean of the surface cells' own",
+        "stress there (P1: constant per cell, a lower estimate converging as h),",
+    ]  # fmt: skip
+    check = "global" if sub else "P1 cell"
     lines = [
         "## Root stress: FE fillet surface against ISO 6336-3 (MPa)",
         "",
-        "FE: the maximum principal stress at the fillet surface of the loaded teeth: at each",
-        "fillet vertex the mean of the surface cells' own stress there (P2: their linear",
-        "stress, converging as h^2; P1: their constant stress, a lower estimate converging as",
-        "h), maximum over the vertices more than one element from a face end and over the mesh",
-        "positions (`solvers/root_stress.py`); `face end`: the largest within one element of",
-        "a face end (a corner under edge load, growing with refinement); `30/60 deg`: the",
-        "largest value on ISO's critical line (fillet tangent at 30 deg to the tooth centre",
-        "line, 60 deg for the ring) along the face width; `P1 cell`: the largest cell value",
-        "(the earlier estimate). ISO: method B nominal sigma_F0 (K factors 1, Y_B = Y_DT = 1;",
-        "tooth thickness allowance included; the ring by ISO's substitute rack at 60 deg) with",
-        "Y_beta of the 2006 edition; in brackets with the 2019 edition's Y_beta (the 2006 one",
-        "divided by cos(beta)^3).",
-        "",
-        "How far P1 is from the surface value (1-GB, roll 0, the convergence study): level 1",
-        "reads it on 0.15 mm fillets (the tension fillets of the teeth loaded in the mesh",
-        "cycle), 3-8 % below level 2 (0.12 mm); level 0 on 0.45 mm fillets, 23-35 % below level",
-        "1 (a smoke value, not a root stress); P2 at level 0 (0.45 mm fillets) is 0.5-8 % below",
-        "P1 at level 2. Not converged to 5 %: the ± beside the cases' values says how far.",
+        *read,
+        "maximum over the vertices farther than one normal module from a face end and over the",
+        "mesh positions (`solvers/root_stress.py`); `face end`: the largest within that band (a",
+        "corner under edge load, growing with refinement); `30/60 deg`: the largest value on",
+        "ISO's critical line (fillet tangent at 30 deg to the tooth centre line, 60 deg for the",
+        "ring) along the face width; "
+        + ("`global`: the global model's own P1 surface value, the earlier estimate (its"
+           if sub else "`P1 cell`: the largest cell value (the earlier estimate)."),
+        *(["fillets are 0.45 / 0.15 / 0.12 mm at levels 0 / 1 / 2). The ± beside a value is",
+           "its discretisation error from the convergence study of its gear set."]
+          if sub else []),
+        "ISO: method B nominal sigma_F0 (K factors 1, Y_B = Y_DT = 1; tooth thickness allowance",
+        "included; the ring by ISO's substitute rack at 60 deg) with Y_beta of the 2006 edition;",
+        "in brackets with the 2019 edition's Y_beta (the 2006 one divided by cos(beta)^3).",
         "",
         "| case | level / P | gear | FE surface | at (tooth, side, z mm) | face end"
-        " | FE 30/60 deg | P1 cell | ISO sigma_F0 (2019) | surface / ISO | 30/60 / ISO |",
+        f" | FE 30/60 deg | {check} | ISO sigma_F0 (2019) | surface / ISO | 30/60 / ISO |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
+    ]  # fmt: skip
     ratios, tang = [], []
     for name in order:
         s = runs[name]
         fe = s.get("bending_stress") or {}
         tan = s.get("bending_stress_tangent") or {}
-        cell = s.get("bending_stress_cell") or {}
+        cell = s.get("bending_stress_global" if sub else "bending_stress_cell") or {}
         end = s.get("bending_stress_face_end") or {}
         at = s.get("bending_stress_at") or {}
         iso = s.get("bending_stress_iso6336") or {}

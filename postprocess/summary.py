@@ -85,7 +85,9 @@ def cycle_bending(records: list[dict]) -> dict:
     """FE root stress over the mesh cycle: per key the maximum over the positions of the
     surface value (``bending_stress``), of the value on ISO's 30 / 60 deg line
     (``bending_stress_tangent``), of the largest P1 cell value (``bending_stress_cell``) and
-    of the surface value within one element of a face end (``bending_stress_face_end``),
+    of the surface value within the face-end band (``bending_stress_face_end``), with
+    submodels (:mod:`solvers.root_submodel`) also of the global model's own surface value
+    (``bending_stress_global``, a check), the method in words (``bending_stress_method``),
     and where the surface maximum sits (``bending_stress_at``: position index, roll, tooth,
     side, z); scenes with several planets also ``bending_stress_set``, the largest surface
     value per gear-set key (the keys of ISO's nominal stress). An entry missing at a
@@ -113,6 +115,9 @@ def cycle_bending(records: list[dict]) -> dict:
     out["bending_stress_tangent"], _ = best(lambda b, k: (b.get("tangent") or {}).get(k))
     out["bending_stress_cell"], _ = best(lambda b, k: (b.get("cell_max") or {}).get(k))
     out["bending_stress_face_end"], _ = best(lambda b, k: (b.get("face_end") or {}).get(k))
+    out["bending_stress_method"] = recs[0][1]["bending_stress"].get("method")
+    if any(r["bending_stress"].get("global") for _, r in recs):  # read on submodels
+        out["bending_stress_global"], _ = best(lambda b, k: (b.get("global") or {}).get(k))
     at = {}
     for k, j in where.items():
         if j is None:

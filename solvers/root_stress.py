@@ -42,17 +42,22 @@ earlier 0.6 mm fillets it was 9-12 % below the 0.12 mm P1 values; before the fin
 0.85-0.96 at level 2). The maximum principal stress (tension positive) of the
 nodal tensors is evaluated
 
-* at every fillet vertex of the loaded teeth more than one fillet element (the longest
-  fillet facet edge) from a face end: the surface maximum (the value quoted), with its
-  tooth, fillet side (``pos``/``neg``, geometric side of the body frame), z (mm from mid
-  face width, body frame) and radius from the body centre; within that margin of a face
-  end, ``face_end``: the fillet meets the end face in a corner and an edge load (the wider
-  mate's contact running past the narrower gear's face) stresses it, a value that grows
-  with refinement and is kept apart, as the contact stress keeps its edge points apart;
+* at every fillet vertex of the loaded teeth farther than the face-end band from a face end
+  (:func:`face_end_band`: one normal module, or the read fillet's element size if larger):
+  the surface maximum (the value quoted), with its tooth, fillet side (``pos``/``neg``,
+  geometric side of the body frame), z (mm from mid face width, body frame) and radius from
+  the gear axis; within the band, ``face_end``: the fillet meets the end face in a corner
+  and an edge load (the wider mate's contact running past the narrower gear's face)
+  stresses it, a value that grows with refinement and is kept apart, as the contact stress
+  keeps its edge points apart. The band is a fixed length, not a number of elements: the
+  interior maximum often sits at its inner edge (the stress rises towards the loaded face
+  end), so a band that shrank with the mesh would move the point read and the value would
+  not converge; one module is about the distance over which the corner's disturbance of a
+  fillet decays (a tooth's thickness at the root is about 2 modules);
 * along ISO 6336-3's critical line: the points of both fillets of every loaded tooth whose
   tangent makes 30 deg (external gear) or 60 deg (internal gear) with the tooth centre line
   (:func:`gears.iso6336_root.fillet_tangent_point` of the transverse section, turned with the
-  helix along the face width, up to one element from the face ends), interpolated
+  helix along the face width, outside the face-end band), interpolated
   linearly on the fillet facet under each point; the largest value along the lines
   (``tangent``) with its z.
 
@@ -254,8 +259,18 @@ def on_surface(points: np.ndarray, corners: np.ndarray):
     return np.array(out_f, dtype=np.int64), np.array(out_w).reshape(-1, 3), np.array(out_d)
 
 
-def _body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]], centre) -> dict:
-    """Surface, tangent-line and cell maxima per key for one body (collective)."""
+def face_end_band(gear, h: float) -> float:
+    """Width (mm) of the face-end band kept apart from the interior maximum: one normal module
+    of ``gear``, or the fillet element size ``h`` if larger (module docstring)."""
+    return max(float(gear.normal_module), float(h))
+
+
+def body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]]) -> dict:
+    """Surface, tangent-line and cell maxima per key for one body (collective): ``body``
+    anything with the ``name``, ``mesh``, ``facet_tags``, ``tags``, ``material``, ``gdim``
+    and ``comm`` of :class:`solvers.elastic_body.ElasticBody`, its mesh in the gear's own
+    frame (axis = z through the origin), ``u`` its displacement; ``keyed_teeth``: output key
+    -> the teeth whose fillets are searched."""
     mesh = body.mesh
     tdim = mesh.topology.dim
     mesh.topology.create_connectivity(tdim - 1, tdim)
@@ -276,27 +291,30 @@ def _body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]], centre) 
         if cells.size:
             cell_best[(t, side)] = float(max_principal(_stress_at(expr, mesh, cells, 1)).max())
     cell_all = body.comm.allgather(cell_best)
-    # sizes: the longest facet edge of the fillets (sets the z step of the critical line)
+    # size of the read fillets: the longest facet edge of the finest fillet (the refined
+    # tension fillet; sets the z step of the critical line)
     corners = nodes[facets[:, 1:], 1:4] if len(facets) else np.zeros((0, 3, 3))
-    h = float(np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).max()) if len(
-        corners) else 0.0  # fmt: skip
+    edge = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).max(axis=1)
+    h = min((float(edge[facets[:, 0] == g].max()) for g in np.unique(facets[:, 0])),
+            default=0.0)  # fmt: skip
     b = gear.face_width
-    half = max(0.5 * b - h, 0.0)  # the critical line over the interior (as the surface max)
+    band = face_end_band(gear, h)
+    half = max(0.5 * b - band, 0.0)  # the critical line over the interior (as the surface max)
     z = np.linspace(-half, half, max(math.ceil(2.0 * half / (0.25 * h)) + 1, 3) if h else 3)
     out = {}
     for key, teeth in keyed_teeth.items():
         gsel = [i for i, (t, _, _) in enumerate(groups) if t in teeth]
-        rec = {"teeth": list(teeth), "fillet_h_mm": h}
+        rec = {"teeth": list(teeth), "fillet_h_mm": h, "face_end_band_mm": band}
         on = np.isin(gid, gsel)
-        end = np.abs(nodes[:, 3]) > 0.5 * b - h if len(nodes) else np.zeros(0, bool)
-        sel = np.flatnonzero(on & ~end)  # interior: more than one element from a face end
+        end = np.abs(nodes[:, 3]) > 0.5 * b - band if len(nodes) else np.zeros(0, bool)
+        sel = np.flatnonzero(on & ~end)  # interior: farther than the band from a face end
         rec["surface_points"] = int(np.count_nonzero(on))
         if sel.size:
             i = int(sel[np.argmax(s1[sel])])
             t, side, _ = groups[gid[i]]
             x = nodes[i, 1:4]
             rec.update(value=float(s1[i]), tooth=int(t), side=side, z_mm=float(x[2]),
-                       radius_mm=float(np.linalg.norm(x[:2] - np.asarray(centre)[:2])))  # fmt: skip
+                       radius_mm=float(np.linalg.norm(x[:2])))  # fmt: skip
         else:
             rec.update(value=None, tooth=None, side=None, z_mm=None, radius_mm=None)
         ends = np.flatnonzero(on & end)
@@ -330,12 +348,14 @@ def root_stress(model, result) -> dict:
     ``pinion_ring_side``, ``ring``) the recovered surface maximum of the max principal
     stress (MPa, None without fillet); ``tangent``: per key the largest value along ISO's
     30 / 60 deg lines; ``cell_max``: per key the largest P1 cell (midpoint) value;
-    ``face_end``: per key the largest surface value within one element of a face end;
-    ``locations``: per key the tooth, fillet side, z (mm), radius (mm) of the surface
+    ``face_end``: per key the largest surface value within the face-end band
+    (:func:`face_end_band`, width ``face_end_band_mm``);
+    ``locations``: per key the tooth, fillet side, z (mm), radius from the axis (mm) of the surface
     maximum, tooth / side / z of the tangent maximum and the largest distance of the
     line's points from the fillet facets under them (``tangent_surface_offset_mm``, a check
     that the line lies on the meshed fillet), the teeth searched, the longest fillet facet
-    edge (``fillet_h_mm``), the number of fillet vertices and the gear-set key
+    edge of the finest fillet searched (``fillet_h_mm``), the number of fillet vertices and
+    the gear-set key
     (``set_key``, :func:`set_keys`);
     ``method``: the recovery in words.
     """
@@ -348,19 +368,30 @@ def root_stress(model, result) -> dict:
     for name, keyed in per_body.items():
         b = p.bodies[name]
         u = b.function(result.displacements[name], name="displacement")
-        recs.update(_body_root_stress(b, u, model.scene.gear(name).gear, keyed, b.centre))
+        recs.update(body_root_stress(b, u, model.scene.gear(name).gear, keyed))
+    degree = p.bodies[next(iter(per_body))].degree
+    return collect(
+        model.scene,
+        recs,
+        f"P{degree} cell stress at the fillet vertices, averaged over the surface cells",
+    )
+
+
+def collect(scene, recs: dict[str, dict], method: str) -> dict:
+    """The records of :func:`body_root_stress` per output key, in the layout of
+    :func:`root_stress` (values, ``tangent``, ``cell_max``, ``face_end``, ``locations``,
+    ``method``)."""
     out: dict = {}
     locs = {}
-    for key, _, _, _ in loaded_fillets(model.scene):
-        rec = recs[key]
+    for key, _, _, _ in loaded_fillets(scene):
+        rec = dict(recs[key])
         out[key] = rec.pop("value")
         locs[key] = rec
-    for k, v in set_keys(model.scene).items():
+    for k, v in set_keys(scene).items():
         locs[k]["set_key"] = v
     out["tangent"] = {k: locs[k].pop("tangent") for k in locs}
     out["cell_max"] = {k: locs[k].pop("cell_max") for k in locs}
     out["face_end"] = {k: locs[k].pop("face_end") for k in locs}
     out["locations"] = locs
-    degree = p.bodies[next(iter(per_body))].degree
-    out["method"] = f"P{degree} cell stress at the fillet vertices, averaged over the surface cells"
+    out["method"] = method
     return out

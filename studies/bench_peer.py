@@ -94,9 +94,11 @@ def ours(case: str, level: int, roll: float, path: Path) -> None:
 
     On the line contact model whatever the case file says: the deck restates our model in
     CalculiX's terms, linear penalty contact included, and the zone model's half-space near
-    field and exact contact have no counterpart there."""
+    field and exact contact have no counterpart there; the root stress read on the global
+    mesh, where ccx's field is read too (no submodel on either side)."""
     study = load_study_case(case)
-    study = replace(study, numerics=replace(study.numerics, contact_model="line"))
+    num = replace(study.numerics, contact_model="line", root_stress="global")
+    study = replace(study, numerics=num)
     t0 = time.perf_counter()
     pos = solve_position(study, roll, MPI.COMM_SELF, level=level)
     wall = time.perf_counter() - t0

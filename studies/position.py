@@ -7,7 +7,8 @@ are loaded in their own frames (:func:`meshing.scene_bodies.load_body_meshes`), 
 model is
 built and solved (:mod:`solvers.gear_train`), and the result is reduced to what the gear
 train carries (:mod:`postprocess.train_results`), the paper's quantities of each branch
-(:mod:`postprocess.paper_moments`) and the FE root stress (:mod:`solvers.root_stress`).
+(:mod:`postprocess.paper_moments`) and the FE root stress (:mod:`solvers.root_submodel`,
+:mod:`solvers.root_stress`).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from solvers.body_store import BodyStore
 from solvers.gear_train import build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
+from solvers.root_submodel import submodel_root_stress
 
 
 def study_scene(study, roll: float, **options):
@@ -90,8 +92,18 @@ def solve_position(
     _stage(progress, "post")
     train = train_results(model, result)
     out = {**train, **paper_moments(train, scene, study.gearset, spacing)}
-    # the root stress only where the scene refines the fillets it is read on
-    out["bending_stress"] = root_stress(model, result) if reads_root_stress(scene) else None
+    # the root stress only where the scene refines the fillets it is read on; on submodels of
+    # the loaded teeth (numerics.root_stress), the global model's own values kept as a check
+    out["bending_stress"] = None
+    if reads_root_stress(scene):
+        bs = root_stress(model, result)
+        if num.root_stress == "submodel":
+            sub = submodel_root_stress(model, result, level, store)
+            sub["global"] = {k: bs[k] for k in sub["locations"]}
+            sub["global_tangent"] = bs["tangent"]
+            bs = sub
+        out["bending_stress"] = bs
+    t_post = time.perf_counter()
     out.update(
         case=study.name,
         scene=study.model.scene,
@@ -108,6 +120,7 @@ def solve_position(
             **model.timings,
             **{k: float(v) for k, v in result.timings.items()},
             "solve_wall": t_solve - t_meshes,
+            "post": t_post - t_solve,
             "wall": time.perf_counter() - t0,
         },
     )

@@ -26,6 +26,7 @@ from mpi4py import MPI
 
 from cases.study_case import CaseError, Numerics, load_study_case
 from meshing import sizing
+from meshing.submodel import submodel_level
 from postprocess.convergence import summary_scalars
 from postprocess.summary import summarise
 from solvers.body_store import BodyStore
@@ -90,6 +91,9 @@ def solve_run(
     ]
     summary = summarise(study, solved, [], {"level": level, "degree": degree})
     lv = sizing.check_level(level)
+    # the fillets the root stress is read on: the submodel's, or the global model's
+    sub = study.numerics.root_stress == "submodel"
+    read_fillet = submodel_level(level).fillet if sub else lv.fillet
     grid = {m: int(v["grid_points"]) for m, v in solved[0]["meshes"].items()}
     return {
         "level": level,
@@ -97,7 +101,7 @@ def solve_run(
         "positions": positions,
         "rolls": [p["roll"] for p in solved],
         "dofs": int(solved[0]["dofs"]),
-        "h_mm": {"fine": lv.fine, "fillet": lv.fillet},
+        "h_mm": {"fine": lv.fine, "fillet": read_fillet, "global_fillet": lv.fillet},
         "grid_points": grid,
         "grid_points_total": sum(grid.values()),
         "compliance_columns": int(sum(p["timings"].get("compliance_columns", 0) for p in solved)),

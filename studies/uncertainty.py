@@ -27,8 +27,9 @@ STUDY_FILE = "convergence.json"
 def match_key(study: StudyCase) -> dict:
     """What a convergence study and a case must share: gear set name and hash of its
     resolved data, scene, contact model (with its gap limit), penalty factor, contact grid
-    spacing, the bodies' linear solver (with its tolerance) and the root fillets (refined
-    fillets make the teeth more compliant: a coarse-fillet run is not the refined study's)."""
+    spacing, the bodies' linear solver (with its tolerance), the root fillets (refined
+    fillets make the teeth more compliant: a coarse-fillet run is not the refined study's) and
+    where the root stress is read (submodel or global fillets)."""
     gearset = study_inputs(study)["gearset"]
     text = json.dumps(gearset, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return {
@@ -42,6 +43,7 @@ def match_key(study: StudyCase) -> dict:
         "linear_solver": study.numerics.linear_solver,
         "linear_tolerance": study.numerics.linear_tolerance,
         "root_fillets": study.numerics.root_fillets,
+        "root_stress": study.numerics.root_stress,
     }
 
 

@@ -154,6 +154,11 @@ def test_numerics_values_are_read():
             r"numerics\.root_fillets = 'fine': must be one of 'auto', "
             r"'refined', 'coarse'",
         ),
+        (
+            "root_stress",
+            "fine",
+            r"numerics\.root_stress = 'fine': must be one of 'submodel', 'global'",
+        ),
     ],
 )
 def test_numerics_range_errors(key, value, match):
@@ -409,6 +414,7 @@ def test_study_inputs_are_json_with_resolved_data():
         "degree": 1, "penalty_factor": 100.0, "grid_spacing": None,
         "contact_model": "zone", "zone_gap_limit_um": 40.0,
         "linear_solver": "mumps", "linear_tolerance": None, "root_fillets": "auto",
+        "root_stress": "submodel",
     }  # fmt: skip
     assert sc["material"] == {
         "youngs_modulus": 206e3,

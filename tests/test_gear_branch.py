@@ -19,7 +19,6 @@ from statics import gear_torque, mesh_records, off_line_share, sun_force
 from cases.study_case import load_study_case
 from gears.profile import involute_deviation
 from meshing.scenes import branch_scene
-from postprocess.mesh_stress import iso_nominal_root_stress
 from solvers.flank_grid import flank_grid
 from studies.position import solve_position
 
@@ -310,23 +309,14 @@ def test_branch_parallel_equals_serial():
 
 
 def test_root_stress_at_loaded_fillets(ga):
-    """FE root stress (solvers.root_stress) against ISO 6336-3 method B nominal stress.
+    """FE root stress (solvers.root_submodel) at the loaded fillets.
 
     The tension sits on the fillet under the loaded (drive) flank: sun pos, pinion pos at
     the sun mesh and neg at the ring mesh, ring pos (meshing.scenes: sun pos drives pinion
-    pos, pinion neg drives ring pos). The external gears are at 0.6-0.9 of ISO's nominal
-    sigma_F0 (all K factors 1, Y_beta of the 2006 form). ISO is a nominal 30 deg tangent
-    section stress of a cantilever loaded at the outer point of single pair contact of the
-    virtual spur gear, with Y_beta for the load sharing along the helical contact lines; the
-    FE value is the largest P1 cell (midpoint) stress over the fillet cells at level 0
-    (about 3 elements across the fillet), which averages the steep surface gradient and
-    underestimates the peak (FE below ISO). Measured at roll 0 (ISO with the tooth thickness
-    allowance): FE / ISO = 0.66 (sun), 0.71 (pinion, sun side), 0.68 (pinion, ring side).
-    The band is the measured spread with about 0.1 either side, narrow enough that a 35 %
-    bias of either value leaves it (0.71 x 1.35 = 0.96, 0.66 / 1.35 = 0.49).
-    The ring (internal) has thicker teeth at the root than the pinion it
-    meshes with, under the same mesh force: its root stress is lower (measured 355 MPa
-    against 484 MPa).
+    pos, pinion neg drives ring pos). The ring (internal) has thicker teeth at the root than
+    the pinion it meshes with, under the same mesh force: its root stress is lower (measured
+    510 MPa against 630 MPa on the level-0 submodels). Against ISO 6336-3:
+    tests/test_root_stress_fe.py.
     """
     bs = ga["bending_stress"]
     sides = {"sun": "pos", "pinion_sun_side": "pos", "pinion_ring_side": "neg", "ring": "pos"}
@@ -334,9 +324,4 @@ def test_root_stress_at_loaded_fillets(ga):
         loc = bs["locations"][key]
         assert loc["side"] == side, key
         assert loc["tooth"] in loc["teeth"] and abs(loc["z_mm"]) <= 16.175 + 1e-9
-    # the P1 cell values (bs["cell_max"]); the surface values: tests/test_root_stress_fe.py
-    cell = bs["cell_max"]
-    iso = iso_nominal_root_stress(load_study_case("1-GA").gearset)
-    for key in ("sun", "pinion_sun_side", "pinion_ring_side"):
-        assert 0.6 < cell[key] / iso[key] < 0.9, (key, cell[key], iso[key])
-    assert cell["ring"] < cell["pinion_ring_side"]
+    assert bs["ring"] < bs["pinion_ring_side"]

@@ -1,9 +1,13 @@
-"""FE root stress at the fillet surface (solvers.root_stress) on the real case-1 branch at
-mesh level 0, P1, one position (1-GA, roll 0; ~10 s, ~4 GB), and the same under MPI."""
+"""FE root stress at the fillet surface on the real case-1 branch at mesh level 0, P1, one
+position (1-GA, roll 0; ~10 s, ~4 GB): read on the P2 submodels of the loaded teeth (the
+default, solvers.root_submodel; ~30 s more) and on the global model's own fillets
+(solvers.root_stress), and the same under MPI."""
 
 import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
+from dataclasses import replace
+
 import pytest
 from mpi4py import MPI
 
@@ -17,6 +21,13 @@ KEYS = ("sun", "pinion_sun_side", "pinion_ring_side", "ring")
 @pytest.fixture(scope="module")
 def ga():
     return solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+
+
+@pytest.fixture(scope="module")
+def ga_global():
+    case = load_study_case("1-GA")
+    case = replace(case, numerics=replace(case.numerics, root_stress="global"))
+    return solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
 
 
 def test_tension_fillet_and_location(ga):
@@ -37,7 +48,7 @@ def test_tension_fillet_and_location(ga):
         assert loc["tangent_surface_offset_mm"] < 0.05, key
 
 
-def test_surface_against_cell_and_iso(ga):
+def test_global_surface_against_cell_and_iso(ga_global):
     """P1: a surface node's value is the mean of the constant stresses of the surface cells
     there, and the largest eigenvalue is convex, so the surface maximum cannot exceed the
     largest fillet-cell value, and a point of ISO's line (a convex combination of nodes)
@@ -45,7 +56,8 @@ def test_surface_against_cell_and_iso(ga):
     surface / cell 0.80-1.00 at level 0 (bound 0.7). Against ISO 6336-3 (2006 Y_beta): P1 at
     level 0 is a lower estimate, measured 0.50-0.66 (bounds 0.4-0.85: a lost stress
     correction Y_S ~ 2 or a doubled load leaves them)."""
-    bs = ga["bending_stress"]
+    bs = ga_global["bending_stress"]
+    assert bs["method"].startswith("P1 cell stress") and "global" not in bs
     iso = iso_nominal_root_stress(load_study_case("1-GA").gearset)
     for key in KEYS:
         s, cell, tan = bs[key], bs["cell_max"][key], bs["tangent"][key]
@@ -54,17 +66,43 @@ def test_surface_against_cell_and_iso(ga):
         assert 0.4 < s / iso[key] < 0.85, (key, s, iso[key])
 
 
+def test_submodel_against_global_and_iso(ga, ga_global):
+    """The default reads the submodels and keeps the global values beside them, which are
+    the global run's own (the submodel adds nothing to the global solution). The P2 submodel
+    (0.3 mm read fillets at level 0) lifts the surface value well above the P1 global one:
+    measured 1.36-1.50x (bounds 1.2-1.8), and brings it to ISO 6336-3's nominal stress of
+    this case (no misalignment, load factors 1): measured 0.77 (ring) to 0.97 (sun); bounds
+    0.65-1.15: ISO's method B claims no better than 10-20 % for a helical gear, and level 0
+    is 2-7 % below the 0.1 mm submodel (meshing.submodel.SUBMODEL_FILLET). Every key was
+    read on its own submodel holding the whole mesh load of its gear."""
+    bs, glob = ga["bending_stress"], ga_global["bending_stress"]
+    assert bs["method"].startswith("P2 submodel")
+    iso = iso_nominal_root_stress(load_study_case("1-GA").gearset)
+    for key in KEYS:
+        assert bs["global"][key] == pytest.approx(glob[key], rel=1e-9), key
+        assert bs["global_tangent"][key] == pytest.approx(glob["tangent"][key], rel=1e-9), key
+        assert 1.2 < bs[key] / glob[key] < 1.8, (key, bs[key], glob[key])
+        assert 0.65 < bs[key] / iso[key] < 1.15, (key, bs[key], iso[key])
+        sub = bs["locations"][key]["submodel"]
+        assert sub["degree"] == 2 and sub["fillet_mm"] == 0.3 and sub["load_N"] > 1e4, key
+
+
 @pytest.mark.mpi
 def test_root_stress_parallel_equals_serial():
-    """Two ranks give the serial values (the recovery runs on gathered, sorted samples: the
-    same data on every rank); 1e-6 relative: the parallel solve's round-off (the moments of
-    the same runs agree to 1e-6, tests/test_gear_branch.py)."""
+    """Two ranks give the serial values, submodels included (the recovery runs on gathered,
+    sorted samples: the same data on every rank). The global values to 1e-6 relative: the
+    parallel solve's round-off (the moments of the same runs agree to 1e-6,
+    tests/test_gear_branch.py); the submodels' to 1e-5: their CG stops at a relative
+    residual of 1e-8, within about 1e-6 of the exact solve (tests/test_root_submodel.py),
+    and the serial and parallel AMG hierarchies differ, so each run is that close to the
+    exact value, not to the other run."""
     case = load_study_case("1-GA")
     par = solve_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)["bending_stress"]
     ser = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)["bending_stress"]
     for key in KEYS:
-        assert par[key] == pytest.approx(ser[key], rel=1e-6), key
-        assert par["tangent"][key] == pytest.approx(ser["tangent"][key], rel=1e-6), key
-        assert par["cell_max"][key] == pytest.approx(ser["cell_max"][key], rel=1e-6), key
+        assert par["global"][key] == pytest.approx(ser["global"][key], rel=1e-6), key
+        assert par[key] == pytest.approx(ser[key], rel=1e-5), key
+        assert par["tangent"][key] == pytest.approx(ser["tangent"][key], rel=1e-5), key
+        assert par["cell_max"][key] == pytest.approx(ser["cell_max"][key], rel=1e-5), key
         for q in ("tooth", "side", "tangent_tooth", "tangent_side"):
             assert par["locations"][key][q] == ser["locations"][key][q], (key, q)

@@ -85,19 +85,28 @@ def test_pinion_on_stiff_carrier_matches_the_branch(stiff_system, branch_ga):
 
 def test_reuse_gives_the_same_numbers():
     """Two positions and two cases through one BodyStore (bodies factorized once) against
-    every solve from scratch: the same bodies, so the same numbers to round-off (1e-8)."""
+    every solve from scratch: the same bodies, so the same numbers to round-off (1e-8; the
+    root stress's submodels, solved by CG to a relative residual of 1e-8 from the same
+    start, to 1e-8 too)."""
     ga, gc = load_study_case("1-GA"), load_study_case("1-GC")
     store = BodyStore()
-    reused = [solve_position(s, roll, MPI.COMM_SELF, level=0, store=store)
-              for s, roll in ((ga, 0.0), (ga, 0.05), (gc, 0.05))]  # fmt: skip
-    # bodies built once (sun, pinion, ring), then found; GC differs from GA in the bearing
-    # only, which lives outside the bodies
-    assert store.built == 3 and store.reused == 6
+    reused, built = [], []
+    for s, roll in ((ga, 0.0), (ga, 0.05), (gc, 0.05)):
+        reused.append(solve_position(s, roll, MPI.COMM_SELF, level=0, store=store))
+        built.append(store.built)
+    # the first position builds the three bodies (sun, pinion, ring) and the four root
+    # stress submodels (one per gear and loaded side); the next reuses the bodies and builds
+    # a submodel only where its run of loaded teeth has another length; GC differs from GA
+    # in the bearing only, which lives outside the bodies: nothing new
+    assert built[0] == 3 + 4 and built[1] <= built[0] + 4 and built[2] == built[1]
+    assert store.reused >= 3 + 3 + 4  # GA 0.05: the bodies; GC: the bodies and submodels
     fresh = [solve_position(s, roll, MPI.COMM_SELF, level=0)
              for s, roll in ((ga, 0.0), (ga, 0.05), (gc, 0.05))]  # fmt: skip
     for a, b in zip(reused, fresh, strict=True):
         for k in (*MOMENTS, "ZS", "ZR"):
             assert a[k] == pytest.approx(b[k], rel=1e-8, abs=1e-10), k
+        for k in a["bending_stress"]["locations"]:
+            assert a["bending_stress"][k] == pytest.approx(b["bending_stress"][k], rel=1e-8), k
     assert fresh[1]["My_pin"] != fresh[0]["My_pin"]  # the positions differ: a real check
 
 

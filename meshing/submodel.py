@@ -1,0 +1,77 @@
+"""The submodel of the loaded teeth of one gear: a sector of the gear body around the teeth
+whose root stress is read, with their tension fillets meshed finer than the global model
+can afford (:mod:`solvers.root_submodel` drives it with the global solution).
+
+The sector is canonical: it always starts at tooth 0 (``first_tooth = 0``) and holds the
+``n_read`` teeth read plus ``SUBMODEL_MARGIN`` buffer teeth on each side, so one mesh (and
+one factorization) serves every mesh position and every run of the gear: the sector of the
+teeth t0 ... t0 + n_read - 1 is this one turned about the gear axis by
+``(t0 - SUBMODEL_MARGIN) * 2 pi / z`` (:func:`sector_turn`), the teeth of a gear being
+identical under a turn by the pitch. Its cut faces lie in the middle of the tooth spaces
+beyond the buffer teeth, and its inner arc (external gear; the outer arc of an internal
+gear) ``SUBMODEL_DEPTH`` modules from the root circle, or at the body's own bore (rim) if
+that is nearer: there the global displacement is imposed. The read teeth's fillets on the
+loaded side get the fillet size asked for, every other fillet the level's ``fillet_far``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from meshing import sizing
+from meshing.gear_body import GearBody
+from meshing.sizing import MeshingError
+
+#: buffer teeth between a read tooth and a cut face (the cut is a tooth space beyond them)
+SUBMODEL_MARGIN = 1
+#: normal modules from the root circle to the cut arc (or the body's bore / rim if nearer)
+SUBMODEL_DEPTH = 2.5
+#: element degree of the submodel (P2: the surface stress of a 0.2 mm fillet within 3 % of
+#: the 0.1 mm value, where P1 needs 0.12 mm and is still not in the asymptotic range)
+SUBMODEL_DEGREE = 2
+#: size (mm) of the read fillets of the submodel at each global level of meshing.sizing.LEVELS:
+#: 1-GB at sun angle 0, driven by the level-0 solution, P2, surface value of sun / pinion sun
+#: side / pinion ring side / ring (MPa): 0.3 mm 850 / 857 / 875 / 654, 0.2 mm 869 / 888 /
+#: 942 / 676, 0.15 mm 872 / 865 / 943 / 663, 0.1 mm 875 / 871 / 954 / 666 (250-310k DOFs and
+#: 10-16 s to factorize per submodel at 0.2 mm, 660-890k and 50-110 s at 0.1 mm)
+SUBMODEL_FILLET = (0.3, 0.2, 0.15, 0.1, 0.08)
+if len(SUBMODEL_FILLET) != len(sizing.LEVELS):  # one submodel size per global level
+    raise ImportError("meshing.submodel.SUBMODEL_FILLET needs one size per meshing.sizing.LEVELS")
+
+
+def submodel_body(gb: GearBody, n_read: int, side: str, depth: float = SUBMODEL_DEPTH) -> GearBody:
+    """The canonical sector of ``gb``'s gear for ``n_read`` consecutive read teeth whose
+    ``side`` (``"pos"``/``"neg"``) fillets are in tension (see the module docstring)."""
+    g = gb.gear
+    if side not in ("pos", "neg"):
+        raise MeshingError(f"{gb.body}: submodel side = {side!r}: must be 'pos' or 'neg'")
+    n = n_read + 2 * SUBMODEL_MARGIN
+    if isinstance(n_read, bool) or not isinstance(n_read, int) or not 1 <= n <= g.teeth // 2:
+        raise MeshingError(
+            f"{gb.body}: submodel of {n_read!r} read teeth: needs 1 to "
+            f"{g.teeth // 2 - 2 * SUBMODEL_MARGIN} (a sector holds half of z = {g.teeth})"
+        )
+    m = g.normal_module
+    fine = tuple((SUBMODEL_MARGIN + i, side) for i in range(n_read))
+    if g.internal:
+        radii = {"outer_radius": min(gb.outer_radius, g.root_radius + depth * m)}
+    else:
+        radii = {"inner_radius": max(gb.inner_radius, g.root_radius - depth * m)}
+    return replace(gb, first_tooth=0, n_teeth=n, fine_fillets=fine, **radii)
+
+
+def sector_turn(gear, first_read: int) -> float:
+    """The angle (rad, about +z) that carries the canonical sector onto the sector whose
+    first read tooth is ``first_read``."""
+    return (first_read - SUBMODEL_MARGIN) * 2.0 * math.pi / gear.teeth
+
+
+def submodel_level(level) -> sizing.Level:
+    """The sizes of the submodel of the global ``level``: the level's, with the read fillets
+    at :data:`SUBMODEL_FILLET` of its index (a :class:`meshing.sizing.Level` given as such,
+    e.g. a fillet-study level, keeps its own fillet size)."""
+    if isinstance(level, sizing.Level):
+        return sizing.check_level(level)
+    sizing.check_level(level)
+    return sizing.with_fillet(level, SUBMODEL_FILLET[level])

@@ -1,0 +1,343 @@
+"""Root stress from a submodel of the loaded teeth, driven by the solved gear train.
+
+The global model resolves the moments (within 0.5 % at level 1) but not the fillet stress:
+its P1 surface value rises 3-8 % from level 1 to 2 and is not in the asymptotic range
+(:mod:`solvers.root_stress`). The stress concentration of a root fillet is local (it decays
+within about one fillet radius), so it is read on a separate, finer model of the teeth
+around it (cut-boundary displacement submodelling):
+
+    find u in V_h (P2 on the sector mesh) with u = u_G on Gamma_cut and
+    int sigma(u) : eps(v) dx = sum_k F_k n_k . v(x_k)  for all v in V_h, v = 0 on Gamma_cut,
+
+u_G the global displacement (rigid part included, in the gear's body frame), Gamma_cut the
+sector's cut faces and its inner (outer) arc (:mod:`meshing.submodel`), F_k n_k the contact
+forces of the solved grid acting on this gear at the spreading points x_k of their cells,
+the same consistent loads as the global model's G^T F (:mod:`solvers.gap_operator`), on the
+teeth inside the sector (the loads outside it reach the cut through u_G). The cut lies a
+tooth space beyond the read teeth and 2.5 modules below the root circle, where u_G is smooth
+and carries the global model's converged compliance; the read teeth see exactly the
+global contact loads. The submodel adds nothing to the global solution (one-way).
+
+The root stress is then read on the submodel's fillets as on the global model
+(:func:`solvers.root_stress.body_root_stress`). One canonical sector per gear and loaded
+side (:func:`meshing.submodel.submodel_body`) serves every position: a position's sector is
+the canonical one turned by :func:`meshing.submodel.sector_turn`, so the submodel's
+stiffness matrix (with its Dirichlet rows) is assembled and factorized once
+(:class:`SubmodelBody`), and each position is a right-hand side.
+
+Collective; the same values on every rank.
+"""
+
+from __future__ import annotations
+
+import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
+
+# isort: split
+import json
+import time
+from dataclasses import dataclass
+
+import dolfinx
+import dolfinx.fem.petsc
+import numpy as np
+import ufl
+from petsc4py import PETSc
+
+from meshing import tags as tagnames
+from meshing.body_cache import body_params, load_body
+from meshing.sizing import level_record
+from meshing.submodel import (
+    SUBMODEL_DEGREE,
+    SUBMODEL_MARGIN,
+    sector_turn,
+    submodel_body,
+    submodel_level,
+)
+from solvers.body_store import BodyStore
+from solvers.elastic_body import Material, mpi_sum
+from solvers.gap_operator import locate
+from solvers.rigid_coupling import rigid_modes
+from solvers.root_stress import body_root_stress, collect, loaded_fillets, loaded_teeth
+
+#: solvers of the submodel: "cg-gamg" (CG + smoothed-aggregation AMG, no factor in memory;
+#: the default) or "mumps" (exact LU, the reference it is tested against)
+SUBMODEL_SOLVERS = ("cg-gamg", "mumps")
+#: relative residual of the CG solve: 1-GB level 0 at roll 0, the four submodels' surface
+#: values against 1e-10 (35-46 iterations): 1e-8 6e-7 (29-34 its), 1e-7 1e-6 (24-28),
+#: 1e-6 3e-5 (19-23), 1e-5 7e-4 (14-19); CG takes most of a position's submodel time
+SUBMODEL_CG_RTOL = 1e-8
+
+
+class SubmodelError(RuntimeError):
+    """The loaded teeth of a gear do not fit a submodel (not one run of consecutive teeth,
+    or more than a sector of half the gear holds)."""
+
+
+def _turn(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def field_at(body, u: dolfinx.fem.Function, points: np.ndarray) -> np.ndarray:
+    """Values (m, gdim) of ``u`` (a field on ``body``'s mesh) at ``points`` (m, gdim; the same
+    on every rank; collective): each point evaluated by the rank whose cell holds it
+    (:func:`solvers.gap_operator.locate`, which refuses points off the mesh) and summed."""
+    mine, cells, X, _ = locate(body, points)
+    gd = body.gdim
+    out = np.zeros((len(points), gd))
+    if np.any(mine):
+        elem = u.function_space.element.basix_element
+        phi = elem.tabulate(0, X[mine])[0, :, :, 0]  # (p, ndofs)
+        dofs = u.function_space.dofmap.list[cells[mine]]  # (p, ndofs)
+        vals = u.x.array.reshape(-1, gd)[dofs]  # (p, ndofs, gd)
+        out[mine] = np.einsum("pd,pdc->pc", phi, vals)
+    return mpi_sum(body.comm, out)
+
+
+@dataclass
+class SubmodelBody:
+    """The canonical sector of one gear and loaded side, assembled and factorized once.
+
+    Holds what :func:`solvers.root_stress.body_root_stress` reads of a body (``name``,
+    ``mesh``, ``facet_tags``, ``tags``, ``material``, ``gdim``, ``comm``, ``degree``).
+    ``cut``: the tag names of the driven boundary.
+    """
+
+    name: str
+    mesh: dolfinx.mesh.Mesh
+    facet_tags: dolfinx.mesh.MeshTags
+    tags: dict
+    material: Material
+    degree: int
+    cut: tuple[str, ...]
+    solver: str = "cg-gamg"
+
+    def __post_init__(self):
+        if self.solver not in SUBMODEL_SOLVERS:
+            raise ValueError(f"submodel solver {self.solver!r}: must be one of {SUBMODEL_SOLVERS}")
+        self.comm = self.mesh.comm
+        self.gdim = self.mesh.geometry.dim
+        t0 = time.perf_counter()
+        self.V = dolfinx.fem.functionspace(self.mesh, ("Lagrange", self.degree, (self.gdim,)))
+        fdim = self.gdim - 1
+        self.mesh.topology.create_connectivity(fdim, self.gdim)
+        facets = np.concatenate([self.facet_tags.find(self.tags[s]) for s in self.cut])
+        self.cut_dofs = dolfinx.fem.locate_dofs_topological(self.V, fdim, facets)
+        self.g = dolfinx.fem.Function(self.V)
+        self.bc = dolfinx.fem.dirichletbc(self.g, self.cut_dofs)
+        mat = self.material
+        u, v = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+
+        def eps(w):
+            return ufl.sym(ufl.grad(w))
+
+        sig = mat.lam * ufl.tr(eps(u)) * ufl.Identity(self.gdim) + 2 * mat.mu * eps(u)
+        self.a = dolfinx.fem.form(ufl.inner(sig, eps(v)) * ufl.dx)
+        self.A = dolfinx.fem.petsc.assemble_matrix(self.a, bcs=[self.bc])
+        self.A.assemble()
+        self.ksp = PETSc.KSP().create(self.comm)
+        self.ksp.setOperators(self.A)
+        if self.solver == "mumps":
+            self.ksp.setType("preonly")
+            self.ksp.getPC().setType("lu")
+            self.ksp.getPC().setFactorSolverType("mumps")
+        else:  # CG + smoothed aggregation with the rigid modes (solvers.elastic_body)
+            self._near_null_space()
+            self.ksp.setType("cg")
+            self.ksp.setTolerances(rtol=SUBMODEL_CG_RTOL, atol=0.0, max_it=2000)
+            pc = self.ksp.getPC()
+            pc.setType("gamg")
+            opts = PETSc.Options()
+            pre = f"submodel_{id(self)}_"
+            self.ksp.setOptionsPrefix(pre)
+            sets = {"pc_gamg_threshold": 0.02, "mg_levels_ksp_type": "chebyshev",
+                    "mg_levels_pc_type": "jacobi"}  # fmt: skip
+            for k, v in sets.items():
+                opts[pre + k] = v
+            self.ksp.setFromOptions()
+            for k in sets:
+                opts.delValue(pre + k)
+        self.ksp.setUp()
+        self.dofs = self.V.dofmap.index_map.size_global * self.V.dofmap.index_map_bs
+        self.timings = {"factorize": time.perf_counter() - t0}
+        self.x_cut = self.V.tabulate_dof_coordinates()[self.cut_dofs]  # local, with ghosts
+
+    def _near_null_space(self) -> None:
+        """The six rigid modes of the sector (orthonormalised) as the near null space of A."""
+        n_own = self.V.dofmap.index_map.size_local
+        x = self.V.tabulate_dof_coordinates()[:n_own]
+        psi = rigid_modes(x, np.zeros(3))  # (n, 3, 6)
+        vecs = []
+        for m in range(6):
+            w = self.A.createVecRight()
+            w.getArray()[:] = psi[:, :, m].ravel()
+            for v in vecs:
+                w.axpy(-w.dot(v), v)
+            w.scale(1.0 / w.norm())
+            vecs.append(w)
+        self.A.setNearNullSpace(PETSc.NullSpace().create(vectors=vecs, comm=self.comm))
+
+    def solve(self, global_body, u_global, loads, angle: float) -> dolfinx.fem.Function:
+        """The submodel's displacement for one position (collective).
+
+        ``global_body``/``u_global``: the gear's body and displacement in the global model
+        (body frame); ``loads``: (points (m, 3), forces (m, 3)) in the global body frame
+        (:func:`sector_loads`); ``angle``: the turn from this canonical sector to the
+        global body frame (:func:`meshing.submodel.sector_turn`)."""
+        Q = _turn(angle)  # canonical -> global body frame: x_G = Q x
+        # cut values: the global field at every rank's cut DOFs, in canonical components
+        parts = self.comm.allgather(self.x_cut)
+        counts = [len(p) for p in parts]
+        every = np.vstack(parts) if sum(counts) else np.zeros((0, 3))
+        vals = field_at(global_body, u_global, every @ Q.T) @ Q  # (Q^T u)^T = u^T Q
+        mine = vals[sum(counts[: self.comm.rank]) : sum(counts[: self.comm.rank + 1])]
+        arr = self.g.x.array.reshape(-1, self.gdim)
+        arr[self.cut_dofs] = mine
+        # loads: consistent nodal forces of the point forces on the canonical mesh
+        pts, forces = loads
+        f = dolfinx.fem.Function(self.V)
+        own, cells, X, _ = locate(self, pts @ Q)
+        if np.any(own):
+            elem = self.V.element.basix_element
+            phi = elem.tabulate(0, X[own])[0, :, :, 0]
+            dofs = self.V.dofmap.list[cells[own]]
+            fv = f.x.array.reshape(-1, self.gdim)
+            np.add.at(fv, dofs.ravel(), (phi[:, :, None] * (forces[own] @ Q)[:, None, :])
+                      .reshape(-1, self.gdim))  # fmt: skip
+        # ghost entries reach their owners once, in the ghost update after the lifting
+        b = f.x.petsc_vec
+        dolfinx.fem.petsc.apply_lifting(b, [self.a], bcs=[[self.bc]])
+        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        dolfinx.fem.petsc.set_bc(b, [self.bc])
+        u = dolfinx.fem.Function(self.V, name="displacement")
+        self.ksp.solve(b, u.x.petsc_vec)
+        if self.ksp.getConvergedReason() < 0:
+            raise SubmodelError(
+                f"submodel of {self.name}: {self.solver} did not converge (PETSc reason "
+                f"{self.ksp.getConvergedReason()}, {self.ksp.getIterationNumber()} iterations)"
+            )
+        self.iterations = self.ksp.getIterationNumber()
+        u.x.scatter_forward()
+        return u
+
+
+def sector_loads(problem, result, body: str, gear, first_tooth: int, n_teeth: int):
+    """The contact forces acting on ``body`` at the spreading points of their grid cells, in
+    its body frame, kept where they lie on the teeth ``first_tooth`` ... ``+ n_teeth - 1``
+    (by polar angle less the helix rotation): (points (m, 3), forces (m, 3)); eq. (2) of
+    :mod:`solvers.contact` (f = sigma F n, sigma = +1 on side B, -1 on side A)."""
+    b = problem.bodies[body]
+    pitch = 2.0 * np.pi / gear.teeth
+    lo = (first_tooth - 0.5) * pitch
+    pts, frc = [], []
+    for i, p in enumerate(problem.pairs):
+        F = result.forces[problem.offsets[i] : problem.offsets[i + 1]]
+        for side, name in (("a", p.body_a), ("b", p.body_b)):
+            if name != body or not np.any(F):
+                continue
+            x, parent, w = p.grid.spread_points(side)
+            x = b.to_body(x)
+            n = np.asarray(p.grid.normals, float)[parent] @ b.rotation
+            sign = 1.0 if side == "b" else -1.0
+            th = np.arctan2(x[:, 1], x[:, 0]) - np.asarray(gear.helix_rotation(x[:, 2]), float)
+            rel = np.mod(th - lo, 2.0 * np.pi)
+            keep = (rel < n_teeth * pitch) & (F[parent] != 0)
+            pts.append(x[keep])
+            frc.append(sign * (F[parent] * w)[keep, None] * n[keep])
+    if not pts:
+        return np.zeros((0, 3)), np.zeros((0, 3))
+    return np.vstack(pts), np.vstack(frc)
+
+
+def cut_names(body: str, internal: bool) -> tuple[str, ...]:
+    """The driven boundary of a sector submodel: its cut faces and its inner (outer) arc."""
+    arc = tagnames.RIM if internal else tagnames.BORE
+    return tuple(tagnames.surface(body, k) for k in (tagnames.CUT_POS, tagnames.CUT_NEG, arc))
+
+
+def tooth_run(key: str, teeth, z: int) -> tuple[int, int]:
+    """(first tooth, number of teeth) of ``teeth``, consecutive teeth of a gear of ``z`` teeth
+    (the run may wrap past tooth z - 1 to 0); :class:`SubmodelError` if they are not one run."""
+    ts = sorted({int(t) for t in teeth})
+    starts = [t for t in ts if (t - 1) % z not in ts]
+    if not ts or len(starts) != 1:
+        raise SubmodelError(
+            f"root stress submodel of {key}: the loaded teeth {ts} are not one run of "
+            "consecutive teeth (set numerics.root_stress = 'global' to read the global model)"
+        )
+    return starts[0], len(ts)
+
+
+def submodel_root_stress(model, result, level, store: BodyStore | None = None,
+                         degree: int = SUBMODEL_DEGREE) -> dict:  # fmt: skip
+    """The root stress of a solved gear train read on submodels of its loaded teeth
+    (module docstring), in the layout of :func:`solvers.root_stress.root_stress`; every
+    key's ``locations`` also hold ``submodel``: its DOFs, read-fillet size, degree, sector
+    (first tooth, teeth), the resultant of the loads on it (N), its set-up time (s;
+    ``set_up_here``: in this call, not reused) and solve time (s). ``level``: the global
+    model's level (the submodel's sizes:
+    :func:`meshing.submodel.submodel_level`); ``store``: where the factorized submodels are
+    kept across positions and cases (:class:`solvers.body_store.BodyStore`). Collective."""
+    store = BodyStore() if store is None else store
+    p, scene = model.problem, model.scene
+    teeth = loaded_teeth(model)
+    zones = {f"{zn.driver}-{zn.driven}": zn for zn in scene.zones}
+    lv = submodel_level(level)
+    recs = {}
+    for key, body, grid, which in loaded_fillets(scene):
+        zn = zones[grid]
+        side = zn.driver_side if which == "driver_tooth" else zn.driven_side
+        gear = scene.gear(body).gear
+        z = gear.teeth
+        first, n = tooth_run(key, teeth[key], z)
+        try:
+            sb = submodel_body(scene.gear(body).body, n, side)
+        except ValueError as exc:
+            raise SubmodelError(f"root stress submodel of {key}: {exc}") from exc
+        gb = p.bodies[body]
+        mat = gb.material
+        skey = ("submodel", json.dumps(body_params(sb, level_record(lv)), sort_keys=True),
+                degree, mat.E, mat.nu)  # fmt: skip
+
+        def make(sb=sb, mat=mat, internal=gear.internal, comm=gb.comm):
+            bundle = load_body(sb, lv, comm)
+            tags = {nm: tg for nm, (d, tg) in bundle.names.items() if d == 2}
+            return SubmodelBody(sb.body, bundle.mesh, bundle.facet_tags, tags, mat, degree,
+                                cut_names(sb.body, internal))  # fmt: skip
+
+        built = store.built
+        sub = store.keep(skey, make)
+        t0 = time.perf_counter()
+        start = first - SUBMODEL_MARGIN
+        loads = sector_loads(p, result, body, gear, start, n + 2 * SUBMODEL_MARGIN)
+        u = sub.solve(gb, gb.function(result.displacements[body]), loads, sector_turn(gear, first))
+        canon = [(t - start) % z for t in teeth[key]]
+        rec = body_root_stress(sub, u, gear, {key: canon})[key]
+        for k in ("tooth", "tangent_tooth"):  # canonical sector -> the gear's teeth
+            if rec[k] is not None:
+                rec[k] = int((rec[k] + start) % z)
+        rec["teeth"] = list(teeth[key])
+        rec["submodel"] = {
+            "dofs": sub.dofs, "fillet_mm": lv.fillet, "degree": degree,
+            "first_tooth": int(start % z), "teeth": n + 2 * SUBMODEL_MARGIN,
+            "load_N": float(np.linalg.norm(loads[1].sum(axis=0))),
+            "setup_s": sub.timings["factorize"], "set_up_here": store.built > built,
+            "solve_s": time.perf_counter() - t0,
+        }  # fmt: skip
+        recs[key] = rec
+    method = (f"P{degree} submodel of the loaded teeth (read fillets {lv.fillet:g} mm), driven "
+              "by the global displacement; cell stress at the fillet vertices, averaged over "
+              "the surface cells")  # fmt: skip
+    return collect(scene, recs, method)
+
+
+__all__ = [
+    "SubmodelBody",
+    "SubmodelError",
+    "cut_names",
+    "field_at",
+    "sector_loads",
+    "sector_turn",
+    "submodel_root_stress",
+    "tooth_run",
+]
