@@ -325,6 +325,7 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
             "solve_s": time.perf_counter() - t0,
         }  # fmt: skip
         recs[key] = rec
+        del sub, u  # a submodel the store does not keep is freed before the next is built
     method = (f"P{degree} submodel of the loaded teeth (read fillets {lv.fillet:g} mm), driven "
               "by the global displacement; cell stress at the fillet vertices, averaged over "
               "the surface cells")  # fmt: skip
