@@ -100,7 +100,6 @@ def solve_position(
         if num.root_stress == "submodel":
             sub = submodel_root_stress(model, result, level, store)
             sub["global"] = {k: bs[k] for k in sub["locations"]}
-            sub["global_tangent"] = bs["tangent"]
             bs = sub
         out["bending_stress"] = bs
     t_post = time.perf_counter()

@@ -80,7 +80,6 @@ def test_submodel_against_global_and_iso(ga, ga_global):
     iso = iso_nominal_root_stress(load_study_case("1-GA").gearset)
     for key in KEYS:
         assert bs["global"][key] == pytest.approx(glob[key], rel=1e-9), key
-        assert bs["global_tangent"][key] == pytest.approx(glob["tangent"][key], rel=1e-9), key
         assert 1.2 < bs[key] / glob[key] < 1.8, (key, bs[key], glob[key])
         assert 0.65 < bs[key] / iso[key] < 1.15, (key, bs[key], iso[key])
         sub = bs["locations"][key]["submodel"]
