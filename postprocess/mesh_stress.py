@@ -14,7 +14,10 @@ points are the line ends (first and last point of each contact line, where the g
 at a face end or at the path of contact and a Hertz line load has no physical meaning
 without relief) and points within one grid spacing, along their contact line, of a tip or
 form circle of either gear. Zone grid: the cells of the end sections at the face ends and
-the cells next to a tip or form circle (corner contact of the sharp tips). The interior
+the cells next to a tip or form circle (corner contact of the sharp tips). Both grids: the
+points in the fixed edge bands, one normal module from a face end and a quarter of one (of
+profile arc) from a tip or form circle, where the ends' singular tails reach
+(:data:`FACE_BAND_MODULES`). The interior
 maximum is the contact stress to quote; the edge maximum is an edge-load indicator (tip or
 face-end contact a relief would remove). With the line loads w of the interior stations of
 all positions, K_Hbeta = w_max / w_mean, and the ISO 6336-2 nominal stress at the pitch
@@ -49,6 +52,21 @@ from postprocess.train_results import mesh_stations
 #: last cell 4-8 GPa, the one before it 2-2.7 GPa, the third 0-0.6 GPa); see :func:`edge_points`
 EDGE_CELLS = 1.0
 EDGE_REACH_MM = 0.05
+#: the edge bands, fixed lengths (not a number of cells or grid segments) so that the
+#: interior values are read at the same place at every level: a band that shrinks with the
+#: mesh moves the point read into the edge's singular tail and the value does not converge
+#: (1-GB at roll 0, before the bands: the interior line-load peak of the pinion-ring mesh
+#: sat one segment from a face end, 647 / 660 / 766 N/mm at levels 0 / 1 / 2, K_Hbeta and
+#: sigma_H divergent; the interior pressure peaks sat one cell from a tip circle).
+#: Face ends: the points within FACE_BAND_MODULES normal modules of a face end of the
+#: common face width, the band of the root stress (solvers.root_stress.face_end_band): the
+#: distance over which the end's disturbance decays. Tips and forms: the points within
+#: TIP_BAND_MODULES normal modules of profile arc of a tip or form circle: 1-GB level 1,
+#: largest cell pressure of the sun-pinion mesh by distance from the tip circle 9.9 / 3.3 /
+#: 2.5 / 2.1 / 2.0 / 1.85 / 1.8 GPa at 0-0.05 / -0.1 / -0.15 / -0.2 / -0.3 / -0.4 / -0.6 mm:
+#: the corner contact's tail has decayed into the Hertz field at 0.4 mm (0.25 m_n)
+FACE_BAND_MODULES = 1.0
+TIP_BAND_MODULES = 0.25
 
 
 def _hertz(gearset, steel, pos: dict, mesh: dict, x, w) -> tuple[np.ndarray, np.ndarray]:
@@ -200,6 +218,25 @@ def _station_edges(gearset, pos: dict, name: str, mesh: dict) -> tuple[np.ndarra
     return line_end, _near_circles(gearset, pos, mesh, x, spacing)
 
 
+def _bands(gearset, pos: dict, mesh: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(face_band, tip_band) of points x of a mesh: within ``FACE_BAND_MODULES`` normal
+    modules of a face end of the common face width (z from mid face width), within
+    ``TIP_BAND_MODULES`` normal modules of profile arc of a tip or form circle of either
+    gear (see :data:`FACE_BAND_MODULES`)."""
+    gears = [gearset.gears[g] for g in mesh["gears"]]
+    m_n = max(float(g.normal_module) for g in gears)
+    b = min(g.face_width for g in gears)
+    face = 0.5 * b - np.abs(x[:, 2]) < FACE_BAND_MODULES * m_n
+    tip = np.zeros(len(x), bool)
+    for body, gear_name in zip((mesh["driver"], mesh["driven"]), mesh["gears"], strict=True):
+        g = gearset.gears[gear_name]
+        sig = _profile_arc(gearset, pos, body, gear_name, x)
+        for r_e in (g.tip_radius, g.form_radius):
+            sig_e = 0.5 * roll_length(r_e, g.base_radius) ** 2 / g.base_radius
+            tip |= np.abs(sig - sig_e) < TIP_BAND_MODULES * m_n
+    return face, tip
+
+
 def _profile_arc(gearset, pos: dict, body: str, gear_name: str, x: np.ndarray) -> np.ndarray:
     """Arc length along the transverse involute from the base circle, sigma = u^2 / (2 r_b)
     (mm), of points x on the flank of ``body``."""
@@ -215,8 +252,9 @@ def _zone_cell_edges(gearset, pos: dict, mesh: dict) -> tuple[np.ndarray, np.nda
     seg = np.asarray(st["length_mm"], float)[np.asarray(pts["station"], int)]
     width = np.asarray(pts["area_mm2"], float) / seg  # across the line, along the profile
     b = min(gearset.gears[g].face_width for g in mesh["gears"])
-    face_end = 0.5 * b - np.abs(x[:, 2]) < seg
-    tip_form = np.zeros(len(x), bool)
+    face_band, tip_band = _bands(gearset, pos, mesh, x)
+    face_end = (0.5 * b - np.abs(x[:, 2]) < seg) | face_band
+    tip_form = tip_band.copy()
     for body, gear_name in zip((mesh["driver"], mesh["driven"]), mesh["gears"], strict=True):
         g = gearset.gears[gear_name]
         sig = _profile_arc(gearset, pos, body, gear_name, x)
@@ -242,19 +280,27 @@ def edge_points(gearset, pos: dict) -> dict:
     ``EDGE_CELLS`` of their own width (along the profile) plus ``EDGE_REACH_MM`` of the
     tip or form circle of either gear: the grid ends 0.02 mm inside those circles and the
     sharp tip of one gear digging into its mate's flank (corner contact, no tip relief)
-    loads the cells there. ``station_edge``: the stations (sections) that are line ends or
-    whose contact-line point lies within one segment of a tip or form circle (the line
-    grid's criteria); K_Hbeta reads the line loads of the other stations;
-    ``station_tip_form`` the latter part alone."""
+    loads the cells there.
+
+    Both grids: the fixed edge bands (:func:`_bands`, :data:`FACE_BAND_MODULES`) join
+    ``face_end`` (``line_end`` on a line grid) and ``tip_form``, so the interior values are
+    read at the same place at every level. ``station_edge``: the stations (sections) that
+    are line ends, whose contact-line point lies within one segment of a tip or form circle
+    (the line grid's criteria) or within a band; K_Hbeta reads the line loads of the other
+    stations; ``station_tip_form`` the tip / form part without the band (the stations a
+    flank pattern leaves out, :mod:`postprocess.flank_pattern`)."""
     out = {}
     for name, mesh in pos["meshes"].items():
         st_end, st_tf = _station_edges(gearset, pos, name, mesh)
+        x_st = np.asarray(mesh_stations(mesh)["x_mm"], float).reshape(-1, 3)
+        st_face, st_tip = _bands(gearset, pos, mesh, x_st)
         if mesh.get("grid_model", "line") == "zone":
             face_end, tip_form = _zone_cell_edges(gearset, pos, mesh)
             out[name] = {"face_end": face_end, "tip_form": tip_form, "edge": face_end | tip_form}
         else:
-            out[name] = {"line_end": st_end, "tip_form": st_tf, "edge": st_end | st_tf}
-        out[name].update(station_edge=st_end | st_tf, station_tip_form=st_tf)
+            end, tf = st_end | st_face, st_tf | st_tip
+            out[name] = {"line_end": end, "tip_form": tf, "edge": end | tf}
+        out[name].update(station_edge=st_end | st_tf | st_face | st_tip, station_tip_form=st_tf)
     return out
 
 

@@ -157,16 +157,23 @@ def test_line_ends_and_tip_form_points(cycle):
     ends = np.zeros(n, bool)
     for line in pos["grid_lines"]["sun-pinion"]:
         ends[[line["rows"][0], line["rows"][1] - 1]] = True
-    assert np.array_equal(e["line_end"], ends)
-    assert np.array_equal(e["edge"], ends | e["tip_form"])
+    # the line ends, and the points within one normal module (1.59 mm) of a face end of the
+    # common face width (the pinion's 29 mm): the fixed face-end band
+    sun, pin = study.gearset.gears["sun"], study.gearset.gears["pinion"]
+    z = np.asarray(pos["meshes"]["sun-pinion"]["points"]["x_mm"], float)[:, 2]
+    band = 14.5 - np.abs(z) < 1.59
+    assert band.any() and (~band).any()
+    assert np.array_equal(e["line_end"], ends | band)
+    assert np.array_equal(e["edge"], ends | band | e["tip_form"])
     # Points placed at a chosen roll length on the sun and the pinion's reference radius
     # (far from its tip and form circles): an edge point within one spacing (along the
-    # contact line: |du| / sin(beta_b)) of the sun's tip circle, interior beyond it.
-    sun, pin = study.gearset.gears["sun"], study.gearset.gears["pinion"]
+    # contact line: |du| / sin(beta_b)) of the sun's tip circle or within the tip band (a
+    # quarter module, 0.40 mm, of profile arc (u_tip^2 - u^2) / (2 r_b): 0 / 0.06 / 0.11 /
+    # 0.14 / 0.24 / 0.48 / 0.71 mm at these fractions of a spacing), interior beyond both.
     a = pos["pinions"]["pinion"]["centre_mm"][0]
     u_tip = float(roll_length(sun.tip_radius, sun.base_radius))
     sin_b = math.sin(sun.base_helix_angle)
-    fractions = np.array([0.0, 0.5, 0.9, 1.1, 2.0])
+    fractions = np.array([0.0, 0.5, 0.9, 1.1, 2.0, 4.0, 6.0])
     r_s = np.hypot(sun.base_radius, u_tip - fractions * SPACING * sin_b)
     r_p = pin.reference_radius
     x = (r_s**2 - r_p**2 + a * a) / (2 * a)
@@ -174,7 +181,7 @@ def test_line_ends_and_tip_form_points(cycle):
     probe = {**pos, "grid_lines": {}, "meshes": {"sun-pinion": {
         **pos["meshes"]["sun-pinion"], "points": {"x_mm": pts.tolist()}}}}  # fmt: skip
     tip_form = edge_points(study.gearset, probe)["sun-pinion"]["tip_form"]
-    assert tip_form.tolist() == [True, True, True, False, False]
+    assert tip_form.tolist() == [True, True, True, True, True, False, False]
 
 
 def test_summary_keeps_the_old_keys(cycle):
