@@ -36,6 +36,7 @@ from pathlib import Path
 
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
 from meshing import sizing
+from meshing.submodel import SUBMODEL_FILLET
 from postprocess.convergence import run_label
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table
@@ -65,7 +66,22 @@ def _reuse_key(study, level: int, degree: int, positions: int) -> dict:
         "level": level,
         "degree": degree,
         "positions": positions,
+        "submodel_fillets": list(submodel_fillets(study, level, degree)),
     }
+
+
+def submodel_fillets(study, level: int, degree: int) -> tuple[float, ...]:
+    """The extra submodel fillet sizes (mm) a ladder run reads the root stress on, at its own
+    global solution (:func:`postprocess.convergence_study.root_stress_split`): the run at the
+    case's level the next two finer sizes of :data:`meshing.submodel.SUBMODEL_FILLET` (the
+    submodel ladder at a fixed driver), every other ladder run the case level's size (the
+    driver ladder at a fixed submodel). None off the ladder or without submodels."""
+    if degree != LADDER_DEGREE or study.numerics.root_stress != "submodel":
+        return ()
+    own = study.model.level
+    if level == own:
+        return tuple(SUBMODEL_FILLET[own + 1 : own + 3])
+    return (SUBMODEL_FILLET[own],)
 
 
 def _parse_extra(text: str) -> tuple[int, int]:
@@ -125,6 +141,9 @@ def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
         return old
     label = run_label(level, degree)
     child = ["--one", args.case, str(level), str(degree), str(args.positions)]
+    fillets = submodel_fillets(study, level, degree)
+    if fillets:
+        child += ["--fillets", *(f"{f:g}" for f in fillets)]
     row = run_child("studies.convergence", child, level, degree, args.timeout)
     row["label"], row["reused"] = label, False
     row["reuse_key"] = _reuse_key(study, level, degree, args.positions)
@@ -167,7 +186,7 @@ def study(args) -> Path:
         row = _one_run(args, case, level, degree, folder)
         rows.append(row)
         _say(row)
-    table = scalar_table(rows, LADDER_DEGREE)
+    table = scalar_table(rows, LADDER_DEGREE, case_level=case.model.level)
     conv = {
         "case": case.name,
         "description": case.description,
@@ -225,11 +244,17 @@ def main(argv=None) -> int:
     ap.add_argument("--no-reuse", action="store_true", help="solve every run again")
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
     ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)
+    ap.add_argument("--fillets", type=float, nargs="*", default=[], help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one:
         case, level, degree, n = args.one
         return guarded(
-            lambda: print_row(solve_run(case, int(level), int(degree), int(n))), traceback=True
+            lambda: print_row(
+                solve_run(
+                    case, int(level), int(degree), int(n), submodel_fillets=tuple(args.fillets)
+                )
+            ),
+            traceback=True,
         )
     if not args.case:
         ap.error("give the case: python -m studies.convergence 1-GB")
