@@ -271,3 +271,15 @@ def test_report_prints_both_ladders(tmp_path):
     text = write_report(conv, tmp_path).read_text()
     assert "## Root stress: driver and submodel" in text
     assert "| bending_stress.ring | " in text.split("## Root stress: driver and submodel")[1]
+
+
+def test_the_ladder_runs_read_the_two_submodel_ladders():
+    from studies.convergence import submodel_fillets
+
+    study = load_study_case("1-GB")  # level 1: 0.2 mm submodel fillets
+    assert study.model.level == 1
+    assert submodel_fillets(study, 1, 1) == (0.15, 0.1)  # the submodel ladder, driver fixed
+    assert submodel_fillets(study, 0, 1) == submodel_fillets(study, 2, 1) == (0.2,)  # driver
+    assert submodel_fillets(study, 0, 2) == ()  # off the ladder
+    glob = replace(study, numerics=replace(study.numerics, root_stress="global"))
+    assert submodel_fillets(glob, 1, 1) == ()
