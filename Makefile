@@ -158,15 +158,18 @@ bench-contact: $(STAMP) ## line vs zone contact model: results/bench/contact_gri
 # error chart. CONV_LEVELS="0 1" for case 2, whose level 2 does not fit in 23 GB (two levels:
 # Roache's two-grid GCI). Finished runs are reused while inputs and code are unchanged. CONV_EXTRA= (empty)
 # leaves the P2 run out; POSITIONS=5 studies the summary's means and cycle maxima exactly
-# (about 3x the time).
+# (about 3x the time). SPLIT=1 studies the root stress's driver and submodel errors apart
+# (the ladder runs read extra submodels: finer ones at the case's level, its size elsewhere).
 .PHONY: convergence
 CONV_EXTRA ?= 0:2
 CONV_LEVELS ?= 0 1 2
 POSITIONS ?= 1
+SPLIT ?=
 convergence: $(STAMP) ## discretisation error of every scalar: make convergence CASE=1-GB -> results/convergence/<case>/
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make convergence CASE=1-GB" >&2; exit 2; }
 	$(PY) -m studies.convergence $(CASE) --levels $(CONV_LEVELS) --extra $(CONV_EXTRA) \
-	  --positions $(POSITIONS) --out $(RESULTS)/convergence
+	  --positions $(POSITIONS) --out $(RESULTS)/convergence \
+	  $(if $(filter 1 yes true,$(SPLIT)),--split-root-stress)
 
 # The convergence study behind the ± of the case summaries, in the main `make` (before the
 # cases, whose summaries read it), one position each, no P2: 1-GB at levels 0 1 2 (peak

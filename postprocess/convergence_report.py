@@ -144,6 +144,57 @@ def _h_measure(conv: dict) -> list[str]:
     ]
 
 
+def _split_table(conv: dict) -> list[str]:
+    """The root stresses whose error is split into driver and submodel
+    (:func:`postprocess.convergence_study.root_stress_split`): both ladders."""
+    rows = [(k, e["split"]) for k, e in conv["scalars"].items() if e.get("split")]
+    if not rows:
+        return []
+    sp0 = rows[0][1]
+    drv_at, sub_at = sp0["driver"]["at"], sp0["submodel"]["at"]
+    lines = [
+        "## Root stress: driver and submodel",
+        "",
+        "The root stresses are read on P2 submodels driven by the global solution "
+        "(solvers/root_submodel.py), so their error has two sources, studied apart: the "
+        f"driver (every level's global solution read on the {sp0['fillet_mm']:g} mm submodel "
+        "of the case's level, against the flank size) and the submodel (the case level's "
+        "global solution read on fillets of "
+        + " / ".join(f"{f:g}" for f in sub_at)
+        + " mm, against the fillet size). Extrapolated = driver limit x submodel limit / "
+        "the case level's value; U of a run = the driver's U at its level + the submodel's "
+        "at its fillet (a fillet coarser than the ladder's: the step to "
+        f"{sp0['fillet_mm']:g} mm at the same driver plus the submodel's U there). Refining "
+        "both at once (the columns above) mixes the two, and a coarse level's unresolved "
+        "fillet then reads as the default level's error.",
+        "",
+        "| scalar | driver "
+        + " | ".join(drv_at)
+        + " | status | extrapolated | U "
+        + " | ".join(drv_at)
+        + " | submodel "
+        + " | ".join(f"{f:g} mm" for f in sub_at)
+        + " | status | extrapolated | U "
+        + " | ".join(f"{f:g} mm" for f in sub_at)
+        + " |",
+        "|---|" + "---|" * (2 * len(drv_at) + 2 + 2 * len(sub_at) + 2),
+    ]
+    for k, sp in rows:
+        d, s = sp["driver"], sp["submodel"]
+        lines.append(
+            f"| {k} | "
+            + " | ".join(f"{v:.1f}" for v in d["values"])
+            + f" | {d['status']} | {_num(d['extrapolated'], 'MPa')} | "
+            + " | ".join(_upct(u) for u in d["uncertainty"])
+            + " | "
+            + " | ".join(f"{v:.1f}" for v in s["values"])
+            + f" | {s['status']} | {_num(s['extrapolated'], 'MPa')} | "
+            + " | ".join(_upct(u) for u in s["uncertainty"])
+            + " |"
+        )
+    return [*lines, ""]
+
+
 def write_report(conv: dict, folder: Path) -> Path:
     """Write ``report.md`` and the chart into ``folder``; returns the report path."""
     folder = Path(folder)
@@ -176,6 +227,7 @@ def write_report(conv: dict, folder: Path) -> Path:
                 continue
             lines += [f"## {title}", "", *_values_table(conv, rows, labels), ""]
             lines += [*_errors_table(conv, rows, labels), ""]
+        lines += _split_table(conv)
         same = [k for k, e in conv["scalars"].items() if e.get("status") == "mesh-independent"]
         if same:
             lines += [f"Mesh-independent (inputs, not FE results): {', '.join(same)}.", ""]

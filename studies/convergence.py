@@ -3,7 +3,7 @@ extrapolation of every reported scalar, the error and uncertainty of each run, t
 use, a speed-against-error chart.
 
     python -m studies.convergence 1-GB [--levels 0 1 2] [--extra 0:2 ...] [--positions 1]
-        [--out results/convergence] [--min-free-gb 16] [--no-reuse]
+        [--out results/convergence] [--min-free-gb 16] [--no-reuse] [--split-root-stress]
 
 Every (level, degree) run solves the case's first ``--positions`` mesh positions (equally
 spaced over one base pitch, as ``studies.run``) in a fresh child process
@@ -16,7 +16,12 @@ when it was solved from the same inputs, code, level, degree and positions. Two 
 (another degree) are compared with the h-ladder's extrapolation; each one is started only if
 ``MemAvailable`` is at least ``--min-free-gb`` (a level-0 P2 run of a case-1 branch peaks at
 about 14 GB) and is otherwise skipped with the reason in the report. A run that fails (out
-of memory, timeout, error) is recorded and the study goes on.
+of memory, timeout, error) is recorded and the study goes on. ``--split-root-stress``: the
+ladder runs also read the root stress on submodels of other fillet sizes at their own
+global solution (:func:`submodel_fillets`), and the study splits the error of every root
+stress read on a submodel into the driver's and the submodel's
+(:func:`postprocess.convergence_study.root_stress_split`); not yet in the main ``make``
+(it adds the finer submodels' cost to the ladder).
 
 Writes ``<out>/<case>/convergence.json`` (:mod:`postprocess.convergence_study`: per scalar
 the values, status, observed order, extrapolated value, error and uncertainty of every run;
@@ -36,6 +41,7 @@ from pathlib import Path
 
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
 from meshing import sizing
+from meshing.submodel import SUBMODEL_FILLET
 from postprocess.convergence import run_label
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table
@@ -58,14 +64,29 @@ POSITIONS_NOTE = {
 }
 
 
-def _reuse_key(study, level: int, degree: int, positions: int) -> dict:
+def _reuse_key(study, level: int, degree: int, positions: int, split: bool = False) -> dict:
     return {
         "inputs_hash": inputs_hash(study),
         "code_hash": code_hash(),
         "level": level,
         "degree": degree,
         "positions": positions,
+        "submodel_fillets": list(submodel_fillets(study, level, degree) if split else ()),
     }
+
+
+def submodel_fillets(study, level: int, degree: int) -> tuple[float, ...]:
+    """The extra submodel fillet sizes (mm) a ladder run reads the root stress on, at its own
+    global solution (:func:`postprocess.convergence_study.root_stress_split`): the run at the
+    case's level the next two finer sizes of :data:`meshing.submodel.SUBMODEL_FILLET` (the
+    submodel ladder at a fixed driver), every other ladder run the case level's size (the
+    driver ladder at a fixed submodel). None off the ladder or without submodels."""
+    if degree != LADDER_DEGREE or study.numerics.root_stress != "submodel":
+        return ()
+    own = study.model.level
+    if level == own:
+        return tuple(SUBMODEL_FILLET[own + 1 : own + 3])
+    return (SUBMODEL_FILLET[own],)
 
 
 def _parse_extra(text: str) -> tuple[int, int]:
@@ -110,7 +131,7 @@ def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
         old = read_json(path)
     except ResultFileError:
         return None
-    key = _reuse_key(study, level, degree, args.positions)
+    key = _reuse_key(study, level, degree, args.positions, args.split_root_stress)
     if isinstance(old, dict) and old.get("reuse_key") == key and "error" not in old:
         old["reused"] = True
         return old
@@ -125,9 +146,12 @@ def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
         return old
     label = run_label(level, degree)
     child = ["--one", args.case, str(level), str(degree), str(args.positions)]
+    fillets = submodel_fillets(study, level, degree) if args.split_root_stress else ()
+    if fillets:
+        child += ["--fillets", *(f"{f:g}" for f in fillets)]
     row = run_child("studies.convergence", child, level, degree, args.timeout)
     row["label"], row["reused"] = label, False
-    row["reuse_key"] = _reuse_key(study, level, degree, args.positions)
+    row["reuse_key"] = _reuse_key(study, level, degree, args.positions, args.split_root_stress)
     write_json(folder / "runs" / f"{label}.json", row)
     return row
 
@@ -167,7 +191,7 @@ def study(args) -> Path:
         row = _one_run(args, case, level, degree, folder)
         rows.append(row)
         _say(row)
-    table = scalar_table(rows, LADDER_DEGREE)
+    table = scalar_table(rows, LADDER_DEGREE, case_level=case.model.level)
     conv = {
         "case": case.name,
         "description": case.description,
@@ -223,13 +247,24 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--timeout", type=float, default=3600.0, help="per run (s)")
     ap.add_argument("--no-reuse", action="store_true", help="solve every run again")
+    ap.add_argument(
+        "--split-root-stress",
+        action="store_true",
+        help="study the root stress's driver and submodel errors apart (extra submodel readings)",
+    )
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
     ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)
+    ap.add_argument("--fillets", type=float, nargs="*", default=[], help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one:
         case, level, degree, n = args.one
         return guarded(
-            lambda: print_row(solve_run(case, int(level), int(degree), int(n))), traceback=True
+            lambda: print_row(
+                solve_run(
+                    case, int(level), int(degree), int(n), submodel_fillets=tuple(args.fillets)
+                )
+            ),
+            traceback=True,
         )
     if not args.case:
         ap.error("give the case: python -m studies.convergence 1-GB")

@@ -13,6 +13,7 @@ train carries (:mod:`postprocess.train_results`), the paper's quantities of each
 
 from __future__ import annotations
 
+import resource
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -55,6 +56,7 @@ def solve_position(
     micro=None,
     scene_options: dict | None = None,
     store: BodyStore | None = None,
+    submodel_fillets: tuple[float, ...] = (),
 ) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
     (``model.level``, ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
@@ -64,7 +66,10 @@ def solve_position(
     (``scene``, ``meshes``, ``model``, ``solve``, ``post``); ``scene_options``: passed to the
     scene builder (e.g. ``pinion_radial_offset`` in mm, ``phase_offsets``;
     :func:`meshing.scenes.planetary_scene`);
-    ``store``: bodies and meshes kept from earlier positions and cases (default: none kept)."""
+    ``store``: bodies and meshes kept from earlier positions and cases (default: none kept);
+    ``submodel_fillets``: read the root stress also on submodels with these fillet sizes (mm)
+    at the same global solution, in ``bending_stress_fillets`` keyed by the size (``"%g"``):
+    the submodel ladder of a convergence study (:mod:`studies.convergence`)."""
     store = BodyStore() if store is None else store
     store.begin_position()
     num = study.numerics
@@ -103,6 +108,17 @@ def solve_position(
             bs = sub
         out["bending_stress"] = bs
     t_post = time.perf_counter()
+    # the submodel ladder: timed apart (and the memory peak before it kept), so a run's wall
+    # time and memory stay those of the run alone
+    rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    if submodel_fillets and reads_root_stress(scene):
+        if num.root_stress != "submodel":
+            raise ValueError("submodel_fillets needs numerics.root_stress = 'submodel'")
+        out["bending_stress_fillets"] = {
+            f"{f:g}": submodel_root_stress(model, result, sizing.with_fillet(level, f), store)
+            for f in submodel_fillets
+        }
+    t_ladder = time.perf_counter() - t_post
     out.update(
         case=study.name,
         scene=study.model.scene,
@@ -120,7 +136,12 @@ def solve_position(
             **{k: float(v) for k, v in result.timings.items()},
             "solve_wall": t_solve - t_meshes,
             "post": t_post - t_solve,
-            "wall": time.perf_counter() - t0,
+            "wall": time.perf_counter() - t0 - t_ladder,
+            **(
+                {"fillet_ladder": t_ladder, "peak_rss_mb_before_ladder": rss_mb}
+                if submodel_fillets
+                else {}
+            ),
         },
     )
     # per drive grid its tooth pairs (rows [first, last + 1) of their grid points: a zone

@@ -28,7 +28,7 @@ from cases.study_case import CaseError, Numerics, load_study_case
 from meshing import sizing
 from meshing.submodel import submodel_level
 from postprocess.convergence import summary_scalars
-from postprocess.summary import summarise
+from postprocess.summary import cycle_bending, summarise
 from solvers.body_store import BodyStore
 from studies.position import solve_position
 from studies.run import roll_angles
@@ -69,13 +69,39 @@ def _time_split(positions: list[dict]) -> dict[str, float]:
     }
 
 
+def fillet_scalars(solved: list[dict]) -> dict[str, dict[str, float]]:
+    """Per submodel fillet size of the positions' ``bending_stress_fillets``
+    (:func:`studies.position.solve_position`), the root-stress scalars as a summary holds
+    them (``bending_stress.<key>``, ``bending_stress_tangent.<key>``: maxima over the
+    positions, :func:`postprocess.summary.cycle_bending`)."""
+    sizes = sorted({f for p in solved for f in (p.get("bending_stress_fillets") or {})}, key=float)
+    out = {}
+    for f in sizes:
+        recs = [{"bending_stress": (p.get("bending_stress_fillets") or {}).get(f)} for p in solved]
+        cyc = cycle_bending(recs)
+        out[f] = {
+            f"{name}.{k}": float(v)
+            for name in ("bending_stress", "bending_stress_tangent")
+            for k, v in (cyc.get(name) or {}).items()
+            if v is not None
+        }
+    return out
+
+
 def solve_run(
-    case: str, level: int, degree: int, positions: int, numerics: dict | None = None
+    case: str,
+    level: int,
+    degree: int,
+    positions: int,
+    numerics: dict | None = None,
+    submodel_fillets: tuple[float, ...] = (),
 ) -> dict:
     """Solve ``positions`` equally spaced mesh positions of ``case`` (serial, bodies reused
     across them) at ``level``/``degree``; the run's row (see the module docstring).
     ``numerics``: fields of the case's ``[numerics]`` replaced for this run (validated as in
-    a case file)."""
+    a case file); ``submodel_fillets``: the root stress read also on submodels of these
+    fillet sizes (mm) at the same global solutions, in the row's ``fillet_scalars``
+    (:func:`fillet_scalars`; timed apart, not in the run's time)."""
     study = load_study_case(case)
     if numerics:
         try:
@@ -88,10 +114,22 @@ def solve_run(
     # after its solve instead of all being held beside the global factors (level 2: 22.5 GB)
     store = BodyStore(reuse=positions > 1)
     solved = [
-        solve_position(study, roll, comm, level=level, degree=degree, store=store)
+        solve_position(
+            study,
+            roll,
+            comm,
+            level=level,
+            degree=degree,
+            store=store,
+            submodel_fillets=tuple(submodel_fillets),
+        )
         for roll in roll_angles(study, positions)
     ]
     summary = summarise(study, solved, [], {"level": level, "degree": degree})
+    # the peak before the submodel ladder's extra readings (an upper bound of the run's own
+    # over several positions: a later position's peak follows an earlier ladder)
+    before = [p["timings"].get("peak_rss_mb_before_ladder") for p in solved]
+    peak = max(before) if all(v is not None for v in before) else peak_rss_mb()
     lv = sizing.check_level(level)
     # the fillets the root stress is read on: the submodel's, or the global model's
     sub = study.numerics.root_stress == "submodel"
@@ -108,9 +146,12 @@ def solve_run(
         "grid_points_total": sum(grid.values()),
         "compliance_columns": int(sum(p["timings"].get("compliance_columns", 0) for p in solved)),
         "time_s": _time_split(solved),
-        "peak_rss_mb": peak_rss_mb(),
+        "peak_rss_mb": peak,
+        "peak_rss_with_ladder_mb": peak_rss_mb(),
         "numerics": asdict(study.numerics),
         "scalars": summary_scalars(summary, study.gearset.kind),
+        "fillet_scalars": fillet_scalars(solved),
+        "fillet_ladder_s": float(sum(p["timings"].get("fillet_ladder", 0.0) for p in solved)),
     }
 
 

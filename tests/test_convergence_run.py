@@ -25,7 +25,9 @@ def level0(tmp_path_factory):
     """1-GA at level 0, one position: the study driver's summary (with a convergence study of
     the gear set under the results folder) and a convergence run of the same position."""
     out = tmp_path_factory.mktemp("results")
-    row = solve_run("1-GA", 0, 1, 1)
+    # the submodel ladder's reading at the run's own fillet size (0.3 mm at level 0): the
+    # plumbing of fillet_scalars, checked against the run's own root stress
+    row = solve_run("1-GA", 0, 1, 1, submodel_fillets=(0.3,))
     rows = []
     for level, seconds in ((0, 10.0), (1, 20.0), (2, 110.0)):  # a ladder around the real run
         scale = {0: 1.0, 1: 0.5, 2: 0.2}[level]
@@ -64,3 +66,15 @@ def test_summary_carries_the_uncertainty_of_its_gear_set(level0):
     my = summary["My_pin"] * table["My_pin"]["uncertainty"]["L0P1"]
     assert f"{summary['My_pin']:.1f} ± {my:.1f}" in text
     assert "1-GA from" in text and "convergence study" in text
+
+
+def test_a_submodel_reading_at_the_own_fillet_repeats_the_run(level0):
+    _, _, row, _ = level0
+    again = row["fillet_scalars"]["0.3"]
+    keys = [
+        k for k in row["scalars"] if k.startswith(("bending_stress.", "bending_stress_tangent."))
+    ]
+    assert keys and set(again) == set(keys)
+    for k in keys:  # the same submodel mesh, driver and loads; CG to rtol 1e-8
+        assert again[k] == pytest.approx(row["scalars"][k], rel=1e-6), k
+    assert row["fillet_ladder_s"] > 0.0

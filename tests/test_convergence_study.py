@@ -200,3 +200,86 @@ def test_without_a_recommendation_the_note_says_which_kind_meets_its_target():
     note = recommend(rows, table)["note"]
     assert "every moment within 1% from L2P1 on" in note
     assert "no run has every stress within 5% (failing: bending_stress)" in note
+
+
+# ------------------------------------------------ root stress: driver and submodel apart
+A_ROOT = 800.0  # the limit of the synthetic root stress
+
+
+def _separable(h: float, f: float) -> float:
+    """A root stress whose driver error (flank size h) and submodel error (fillet f) are
+    separable, both order 2: A (1 - 0.02 h^2) (1 - 2 f^2)."""
+    return A_ROOT * (1.0 - 0.02 * h * h) * (1.0 - 2.0 * f * f)
+
+
+def _split_rows(extras: bool = True) -> list[dict]:
+    """Ladder runs at levels 0-2 of a case at level 1, with the extra submodel readings of
+    studies.convergence.submodel_fillets: level 1 on 0.15 and 0.1 mm, the others on 0.2."""
+    from meshing.submodel import SUBMODEL_FILLET
+
+    rows = []
+    for level in (0, 1, 2):
+        h, f = LEVELS[level].fine, SUBMODEL_FILLET[level]
+        extra = SUBMODEL_FILLET[2:4] if level == 1 else (SUBMODEL_FILLET[1],)
+        rows.append({
+            "label": f"L{level}P1", "level": level, "degree": 1, "dofs": int(2e5 / h**3),
+            "h_mm": {"fine": h, "fillet": f}, "grid_points_total": 100,
+            "time_s": {"total": 10.0 * (level + 1), "factorization": 1.0, "compliance": 1.0},
+            "peak_rss_mb": 1024.0, "scalars": {"bending_stress.ring": _separable(h, f)},
+            "fillet_scalars": {f"{x:g}": {"bending_stress.ring": _separable(h, x)}
+                               for x in extra} if extras else {},
+        })  # fmt: skip
+    return rows
+
+
+def test_root_stress_split_recovers_the_limit_of_separable_errors():
+    rows = _split_rows()
+    e = scalar_table(rows, case_level=1)["bending_stress.ring"]
+    assert e["status"] == "split"
+    sp = e["split"]
+    assert sp["driver"]["status"] == sp["submodel"]["status"] == "monotone"
+    assert sp["driver"]["order"] == pytest.approx(2.0, rel=1e-6)
+    assert sp["submodel"]["order"] == pytest.approx(2.0, rel=1e-6)
+    # X = D_ext S_ext / v_D is the exact limit of a separable error (order 2 recovered)
+    assert e["extrapolated"] == pytest.approx(A_ROOT, rel=1e-9)
+    for r in rows:
+        assert e["rel_error"][r["label"]] == pytest.approx(r["scalars"]["bending_stress.ring"]
+                                                           / A_ROOT - 1.0, abs=1e-9)  # fmt: skip
+    # U of level 0 (0.3 mm, coarser than the submodel ladder): the driver's U at level 0,
+    # the step to 0.2 mm on the level-0 driver, and the submodel's U at 0.2 mm
+    v0 = rows[0]["scalars"]["bending_stress.ring"]
+    v0_f = rows[0]["fillet_scalars"]["0.2"]["bending_stress.ring"]
+    want = sp["driver"]["uncertainty"][0] + abs(v0 - v0_f) / v0 + sp["submodel"]["uncertainty"][0]
+    assert e["uncertainty"]["L0P1"] == pytest.approx(want, rel=1e-12)
+    # level 2 reads 0.15 mm, on the submodel ladder: its own U there
+    want2 = sp["driver"]["uncertainty"][2] + sp["submodel"]["uncertainty"][1]
+    assert e["uncertainty"]["L2P1"] == pytest.approx(want2, rel=1e-12)
+
+
+def test_root_stress_without_the_submodel_readings_keeps_the_coupled_ladder():
+    e = scalar_table(_split_rows(extras=False), case_level=1)["bending_stress.ring"]
+    assert e["status"] != "split" and "split" not in e
+
+
+def test_report_prints_both_ladders(tmp_path):
+    rows = _split_rows()
+    conv = {"case": "x", "match": {"gearset": "case1", "scene": "one_branch"},
+            "positions_note": "One position.", "ladder_degree": 1,
+            "labels": [r["label"] for r in rows], "runs": rows, "skipped": [],
+            "scalars": scalar_table(rows, case_level=1)}  # fmt: skip
+    conv["recommendation"] = recommend(rows, conv["scalars"])
+    text = write_report(conv, tmp_path).read_text()
+    assert "## Root stress: driver and submodel" in text
+    assert "| bending_stress.ring | " in text.split("## Root stress: driver and submodel")[1]
+
+
+def test_the_ladder_runs_read_the_two_submodel_ladders():
+    from studies.convergence import submodel_fillets
+
+    study = load_study_case("1-GB")  # level 1: 0.2 mm submodel fillets
+    assert study.model.level == 1
+    assert submodel_fillets(study, 1, 1) == (0.15, 0.1)  # the submodel ladder, driver fixed
+    assert submodel_fillets(study, 0, 1) == submodel_fillets(study, 2, 1) == (0.2,)  # driver
+    assert submodel_fillets(study, 0, 2) == ()  # off the ladder
+    glob = replace(study, numerics=replace(study.numerics, root_stress="global"))
+    assert submodel_fillets(glob, 1, 1) == ()
