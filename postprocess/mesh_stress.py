@@ -218,22 +218,24 @@ def _station_edges(gearset, pos: dict, name: str, mesh: dict) -> tuple[np.ndarra
     return line_end, _near_circles(gearset, pos, mesh, x, spacing)
 
 
-def _bands(gearset, pos: dict, mesh: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _bands(gearset, pos: dict, mesh: dict, x: np.ndarray, face_reach=0.0, tip_reach=0.0):
     """(face_band, tip_band) of points x of a mesh: within ``FACE_BAND_MODULES`` normal
-    modules of a face end of the common face width (z from mid face width), within
-    ``TIP_BAND_MODULES`` normal modules of profile arc of a tip or form circle of either
-    gear (see :data:`FACE_BAND_MODULES`)."""
+    modules (or ``face_reach`` mm, per point, if larger) of a face end of the common face
+    width (z from mid face width), within ``TIP_BAND_MODULES`` normal modules (or
+    ``tip_reach``) of profile arc of a tip or form circle of either gear (see
+    :data:`FACE_BAND_MODULES`)."""
     gears = [gearset.gears[g] for g in mesh["gears"]]
     m_n = max(float(g.normal_module) for g in gears)
     b = min(g.face_width for g in gears)
-    face = 0.5 * b - np.abs(x[:, 2]) < FACE_BAND_MODULES * m_n
+    face = 0.5 * b - np.abs(x[:, 2]) < np.maximum(FACE_BAND_MODULES * m_n, face_reach)
+    reach = np.maximum(TIP_BAND_MODULES * m_n, tip_reach)
     tip = np.zeros(len(x), bool)
     for body, gear_name in zip((mesh["driver"], mesh["driven"]), mesh["gears"], strict=True):
         g = gearset.gears[gear_name]
         sig = _profile_arc(gearset, pos, body, gear_name, x)
         for r_e in (g.tip_radius, g.form_radius):
             sig_e = 0.5 * roll_length(r_e, g.base_radius) ** 2 / g.base_radius
-            tip |= np.abs(sig - sig_e) < TIP_BAND_MODULES * m_n
+            tip |= np.abs(sig - sig_e) < reach
     return face, tip
 
 
@@ -251,16 +253,9 @@ def _zone_cell_edges(gearset, pos: dict, mesh: dict) -> tuple[np.ndarray, np.nda
     x = np.asarray(pts["x_mm"], float).reshape(-1, 3)
     seg = np.asarray(st["length_mm"], float)[np.asarray(pts["station"], int)]
     width = np.asarray(pts["area_mm2"], float) / seg  # across the line, along the profile
-    b = min(gearset.gears[g].face_width for g in mesh["gears"])
-    face_band, tip_band = _bands(gearset, pos, mesh, x)
-    face_end = (0.5 * b - np.abs(x[:, 2]) < seg) | face_band
-    tip_form = tip_band.copy()
-    for body, gear_name in zip((mesh["driver"], mesh["driven"]), mesh["gears"], strict=True):
-        g = gearset.gears[gear_name]
-        sig = _profile_arc(gearset, pos, body, gear_name, x)
-        for r_e in (g.tip_radius, g.form_radius):
-            sig_e = 0.5 * roll_length(r_e, g.base_radius) ** 2 / g.base_radius
-            tip_form |= np.abs(sig - sig_e) < EDGE_CELLS * width + EDGE_REACH_MM
+    # the fixed bands, widened to the end section and the last cell (module docstring)
+    face_end, tip_form = _bands(gearset, pos, mesh, x, face_reach=seg,
+                                tip_reach=EDGE_CELLS * width + EDGE_REACH_MM)  # fmt: skip
     return face_end, tip_form
 
 

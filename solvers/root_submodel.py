@@ -22,8 +22,9 @@ The root stress is then read on the submodel's fillets as on the global model
 (:func:`solvers.root_stress.body_root_stress`). One canonical sector per gear and loaded
 side (:func:`meshing.submodel.submodel_body`) serves every position: a position's sector is
 the canonical one turned by :func:`meshing.submodel.sector_turn`, so the submodel's
-stiffness matrix (with its Dirichlet rows) is assembled and factorized once
-(:class:`SubmodelBody`), and each position is a right-hand side.
+stiffness matrix (with its Dirichlet rows) is assembled once and its solver set up once (the
+AMG hierarchy of the default CG + GAMG, or the LU factors of MUMPS; :class:`SubmodelBody`),
+and each position is a right-hand side.
 
 Collective; the same values on every rank.
 """
@@ -96,7 +97,7 @@ def field_at(body, u: dolfinx.fem.Function, points: np.ndarray) -> np.ndarray:
 
 @dataclass
 class SubmodelBody:
-    """The canonical sector of one gear and loaded side, assembled and factorized once.
+    """The canonical sector of one gear and loaded side, assembled and its solver set up once.
 
     Holds what :func:`solvers.root_stress.body_root_stress` reads of a body (``name``,
     ``mesh``, ``facet_tags``, ``tags``, ``material``, ``gdim``, ``comm``, ``degree``).
