@@ -108,13 +108,14 @@ def _ladder_record(res, labels_or_sizes, values) -> dict:
 def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: float = 0.0):
     """The error of a root stress read on a submodel (:mod:`solvers.root_submodel`), split
     into its two sources, or None where the runs do not hold the two ladders
-    (:func:`studies.convergence.submodel_fillets`):
+    (:func:`studies.convergence.submodel_levels`):
 
-    * driver: the global model's level, at the fixed fillet size f_D of the case's level:
-      the values of every ladder run on the f_D submodel against the flank size (Richardson
-      over three levels, the two-grid GCI over two);
-    * submodel: the fillet size, at the fixed driver of the case's level: f_D and the two
-      finer sizes (Richardson against the fillet size; a P2 submodel, order capped at 2).
+    * driver: the global model's level, at the fixed submodel of the case's level (read
+      fillet f_D): the values of every ladder run on that submodel against the flank size
+      (Richardson over three levels, the two-grid GCI over two);
+    * submodel: the submodel's level (the whole sector refined), at the fixed driver of the
+      case's level: f_D and the two finer submodels (Richardson against the read fillet
+      size, the stress concentration's own length; a P2 submodel, order capped at 2).
 
     Separable errors: the extrapolated value X = D_ext S_ext / v_D (D_ext, S_ext the two
     ladders' limits, v_D the case level's value); per run g of own fillet f_g the

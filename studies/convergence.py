@@ -17,8 +17,8 @@ when it was solved from the same inputs, code, level, degree and positions. Two 
 ``MemAvailable`` is at least ``--min-free-gb`` (a level-0 P2 run of a case-1 branch peaks at
 about 14 GB) and is otherwise skipped with the reason in the report. A run that fails (out
 of memory, timeout, error) is recorded and the study goes on. ``--split-root-stress``: the
-ladder runs also read the root stress on submodels of other fillet sizes at their own
-global solution (:func:`submodel_fillets`), and the study splits the error of every root
+ladder runs also read the root stress on finer or coarser submodels at their own global
+solution (:func:`submodel_levels`), and the study splits the error of every root
 stress read on a submodel into the driver's and the submodel's
 (:func:`postprocess.convergence_study.root_stress_split`); not yet in the main ``make``
 (it adds the finer submodels' cost to the ladder).
@@ -41,7 +41,6 @@ from pathlib import Path
 
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
 from meshing import sizing
-from meshing.submodel import SUBMODEL_FILLET
 from postprocess.convergence import run_label
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table
@@ -71,22 +70,29 @@ def _reuse_key(study, level: int, degree: int, positions: int, split: bool = Fal
         "level": level,
         "degree": degree,
         "positions": positions,
-        "submodel_fillets": list(submodel_fillets(study, level, degree) if split else ()),
+        "submodel_levels": list(submodel_levels(study, level, degree) if split else ()),
     }
 
 
-def submodel_fillets(study, level: int, degree: int) -> tuple[float, ...]:
-    """The extra submodel fillet sizes (mm) a ladder run reads the root stress on, at its own
-    global solution (:func:`postprocess.convergence_study.root_stress_split`): the run at the
-    case's level the next two finer sizes of :data:`meshing.submodel.SUBMODEL_FILLET` (the
-    submodel ladder at a fixed driver), every other ladder run the case level's size (the
-    driver ladder at a fixed submodel). None off the ladder or without submodels."""
+def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
+    """The submodels (levels of :func:`meshing.submodel.submodel_level`: the level's sizes
+    with its read fillet) a ladder run also reads the root stress on, at its own global
+    solution (:func:`postprocess.convergence_study.root_stress_split`): the run at the
+    case's level the next two finer submodels (the submodel ladder at a fixed driver: the
+    whole sector refined, fillet, flank and tooth), every other ladder run the case level's
+    submodel (the driver ladder at a fixed submodel). None off the ladder or without
+    submodels.
+
+    The whole sector, not its fillet alone: 1-GB at roll 0, sun fillet on a 0.2 mm
+    submodel, its other sizes those of level 1 / level 2: 844 / 850 MPa on the level-1
+    driver, 838 / 850 MPa on the level-2 driver; a fillet-only ladder would leave that
+    part of the submodel's error in the driver's."""
     if degree != LADDER_DEGREE or study.numerics.root_stress != "submodel":
         return ()
     own = study.model.level
     if level == own:
-        return tuple(SUBMODEL_FILLET[own + 1 : own + 3])
-    return (SUBMODEL_FILLET[own],)
+        return tuple(range(own + 1, min(own + 3, len(sizing.LEVELS))))
+    return (own,)
 
 
 def _parse_extra(text: str) -> tuple[int, int]:
@@ -146,9 +152,9 @@ def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
         return old
     label = run_label(level, degree)
     child = ["--one", args.case, str(level), str(degree), str(args.positions)]
-    fillets = submodel_fillets(study, level, degree) if args.split_root_stress else ()
-    if fillets:
-        child += ["--fillets", *(f"{f:g}" for f in fillets)]
+    subs = submodel_levels(study, level, degree) if args.split_root_stress else ()
+    if subs:
+        child += ["--submodels", *(str(k) for k in subs)]
     row = run_child("studies.convergence", child, level, degree, args.timeout)
     row["label"], row["reused"] = label, False
     row["reuse_key"] = _reuse_key(study, level, degree, args.positions, args.split_root_stress)
@@ -254,14 +260,14 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
     ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)
-    ap.add_argument("--fillets", type=float, nargs="*", default=[], help=argparse.SUPPRESS)
+    ap.add_argument("--submodels", type=int, nargs="*", default=[], help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one:
         case, level, degree, n = args.one
         return guarded(
             lambda: print_row(
                 solve_run(
-                    case, int(level), int(degree), int(n), submodel_fillets=tuple(args.fillets)
+                    case, int(level), int(degree), int(n), submodel_levels=tuple(args.submodels)
                 )
             ),
             traceback=True,

@@ -23,6 +23,7 @@ import numpy as np
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
 from meshing.scenes import build_scene, reads_root_stress
+from meshing.submodel import submodel_level
 from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
 from solvers.body_store import BodyStore
@@ -56,7 +57,7 @@ def solve_position(
     micro=None,
     scene_options: dict | None = None,
     store: BodyStore | None = None,
-    submodel_fillets: tuple[float, ...] = (),
+    submodel_levels: tuple[int, ...] = (),
 ) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
     (``model.level``, ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
@@ -67,8 +68,9 @@ def solve_position(
     scene builder (e.g. ``pinion_radial_offset`` in mm, ``phase_offsets``;
     :func:`meshing.scenes.planetary_scene`);
     ``store``: bodies and meshes kept from earlier positions and cases (default: none kept);
-    ``submodel_fillets``: read the root stress also on submodels with these fillet sizes (mm)
-    at the same global solution, in ``bending_stress_fillets`` keyed by the size (``"%g"``):
+    ``submodel_levels``: read the root stress also on the submodels of these levels (the
+    level's sizes with its read fillet, :func:`meshing.submodel.submodel_level`) at the same
+    global solution, in ``bending_stress_fillets`` keyed by the read fillet size (``"%g"``):
     the submodel ladder of a convergence study (:mod:`studies.convergence`)."""
     store = BodyStore() if store is None else store
     store.begin_position()
@@ -111,12 +113,12 @@ def solve_position(
     # the submodel ladder: timed apart (and the memory peak before it kept), so a run's wall
     # time and memory stay those of the run alone
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-    if submodel_fillets and reads_root_stress(scene):
+    if submodel_levels and reads_root_stress(scene):
         if num.root_stress != "submodel":
-            raise ValueError("submodel_fillets needs numerics.root_stress = 'submodel'")
+            raise ValueError("submodel_levels needs numerics.root_stress = 'submodel'")
         out["bending_stress_fillets"] = {
-            f"{f:g}": submodel_root_stress(model, result, sizing.with_fillet(level, f), store)
-            for f in submodel_fillets
+            f"{submodel_level(k).fillet:g}": submodel_root_stress(model, result, k, store)
+            for k in submodel_levels
         }
     t_ladder = time.perf_counter() - t_post
     out.update(
@@ -139,7 +141,7 @@ def solve_position(
             "wall": time.perf_counter() - t0 - t_ladder,
             **(
                 {"fillet_ladder": t_ladder, "peak_rss_mb_before_ladder": rss_mb}
-                if submodel_fillets
+                if submodel_levels
                 else {}
             ),
         },

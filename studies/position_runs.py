@@ -94,13 +94,13 @@ def solve_run(
     degree: int,
     positions: int,
     numerics: dict | None = None,
-    submodel_fillets: tuple[float, ...] = (),
+    submodel_levels: tuple[int, ...] = (),
 ) -> dict:
     """Solve ``positions`` equally spaced mesh positions of ``case`` (serial, bodies reused
     across them) at ``level``/``degree``; the run's row (see the module docstring).
     ``numerics``: fields of the case's ``[numerics]`` replaced for this run (validated as in
-    a case file); ``submodel_fillets``: the root stress read also on submodels of these
-    fillet sizes (mm) at the same global solutions, in the row's ``fillet_scalars``
+    a case file); ``submodel_levels``: the root stress read also on the submodels of these
+    levels at the same global solutions, in the row's ``fillet_scalars`` keyed by their fillet
     (:func:`fillet_scalars`; timed apart, not in the run's time)."""
     study = load_study_case(case)
     if numerics:
@@ -121,7 +121,7 @@ def solve_run(
             level=level,
             degree=degree,
             store=store,
-            submodel_fillets=tuple(submodel_fillets),
+            submodel_levels=tuple(submodel_levels),
         )
         for roll in roll_angles(study, positions)
     ]

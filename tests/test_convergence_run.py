@@ -25,9 +25,9 @@ def level0(tmp_path_factory):
     """1-GA at level 0, one position: the study driver's summary (with a convergence study of
     the gear set under the results folder) and a convergence run of the same position."""
     out = tmp_path_factory.mktemp("results")
-    # the submodel ladder's reading at the run's own fillet size (0.3 mm at level 0): the
+    # the submodel ladder's reading on the run's own submodel (level 0, 0.3 mm fillets): the
     # plumbing of fillet_scalars, checked against the run's own root stress
-    row = solve_run("1-GA", 0, 1, 1, submodel_fillets=(0.3,))
+    row = solve_run("1-GA", 0, 1, 1, submodel_levels=(0,))
     rows = []
     for level, seconds in ((0, 10.0), (1, 20.0), (2, 110.0)):  # a ladder around the real run
         scale = {0: 1.0, 1: 0.5, 2: 0.2}[level]

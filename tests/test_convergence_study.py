@@ -214,7 +214,7 @@ def _separable(h: float, f: float) -> float:
 
 def _split_rows(extras: bool = True) -> list[dict]:
     """Ladder runs at levels 0-2 of a case at level 1, with the extra submodel readings of
-    studies.convergence.submodel_fillets: level 1 on 0.15 and 0.1 mm, the others on 0.2."""
+    studies.convergence.submodel_levels: level 1 on 0.15 and 0.1 mm, the others on 0.2."""
     from meshing.submodel import SUBMODEL_FILLET
 
     rows = []
@@ -274,12 +274,17 @@ def test_report_prints_both_ladders(tmp_path):
 
 
 def test_the_ladder_runs_read_the_two_submodel_ladders():
-    from studies.convergence import submodel_fillets
+    from meshing.submodel import submodel_level
+    from studies.convergence import submodel_levels
 
     study = load_study_case("1-GB")  # level 1: 0.2 mm submodel fillets
     assert study.model.level == 1
-    assert submodel_fillets(study, 1, 1) == (0.15, 0.1)  # the submodel ladder, driver fixed
-    assert submodel_fillets(study, 0, 1) == submodel_fillets(study, 2, 1) == (0.2,)  # driver
-    assert submodel_fillets(study, 0, 2) == ()  # off the ladder
+    assert submodel_levels(study, 1, 1) == (2, 3)  # the submodel ladder, driver fixed
+    assert submodel_levels(study, 0, 1) == submodel_levels(study, 2, 1) == (1,)  # driver
+    # the whole sector refines along the submodel ladder, its fillet the finest part
+    subs = [submodel_level(k) for k in (1, 2, 3)]
+    assert [s.fillet for s in subs] == [0.2, 0.15, 0.1]
+    assert subs[0].fine > subs[1].fine > subs[2].fine and subs[0].tooth > subs[2].tooth
+    assert submodel_levels(study, 0, 2) == ()  # off the ladder
     glob = replace(study, numerics=replace(study.numerics, root_stress="global"))
-    assert submodel_fillets(glob, 1, 1) == ()
+    assert submodel_levels(glob, 1, 1) == ()
