@@ -159,7 +159,8 @@ def _split_table(conv: dict) -> list[str]:
         "(solvers/root_submodel.py), so their error has two sources, studied apart: the "
         f"driver (every level's global solution read on the {sp0['fillet_mm']:g} mm submodel "
         "of the case's level, against the flank size) and the submodel (the case level's "
-        "global solution read on fillets of "
+        "global solution read on the submodels of it and the next two levels, the whole "
+        "sector refined, with read fillets of "
         + " / ".join(f"{f:g}" for f in sub_at)
         + " mm, against the fillet size). Extrapolated = driver limit x submodel limit / "
         "the case level's value; U of a run = the driver's U at its level + the submodel's "
@@ -285,8 +286,8 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
     axes[0].set_ylabel("|error| against the extrapolation, or its bound (hollow)")
     axes[0].legend(fontsize=8, loc="best", framealpha=0.9)
     fig.suptitle(
-        f"{conv['case']}: speed against error (hollow: spread bound or two-grid GCI, no "
-        "extrapolation)",
+        f"{conv['case']}: speed against error (hollow: a bound, no extrapolation: spread, "
+        "two-grid GCI, or a root stress's driver + submodel U)",
         fontsize=10,
     )
     fig.tight_layout()

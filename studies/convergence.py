@@ -84,7 +84,7 @@ def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
     submodels.
 
     The whole sector, not its fillet alone: 1-GB at roll 0, sun fillet on a 0.2 mm
-    submodel, its other sizes those of level 1 / level 2: 844 / 850 MPa on the level-1
+    submodel, its other sizes those of level 1 / level 2: 844 / 857 MPa on the level-1
     driver, 838 / 850 MPa on the level-2 driver; a fillet-only ladder would leave that
     part of the submodel's error in the driver's."""
     if degree != LADDER_DEGREE or study.numerics.root_stress != "submodel":
