@@ -313,7 +313,8 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         loads = sector_loads(p, result, body, gear, start, n + 2 * SUBMODEL_MARGIN)
         u = sub.solve(gb, gb.function(result.displacements[body]), loads, sector_turn(gear, first))
         canon = [(t - start) % z for t in teeth[key]]
-        rec = body_root_stress(sub, u, gear, {key: canon})[key]
+        forces_at = loads[0] @ _turn(sector_turn(gear, first))  # canonical frame
+        rec = body_root_stress(sub, u, gear, {key: canon}, load_points=forces_at)[key]
         for k in ("tooth", "tangent_tooth"):  # canonical sector -> the gear's teeth
             if rec[k] is not None:
                 rec[k] = int((rec[k] + start) % z)
