@@ -159,7 +159,8 @@ bench-contact: $(STAMP) ## line vs zone contact model: results/bench/contact_gri
 # Roache's two-grid GCI). Finished runs are reused while inputs and code are unchanged. CONV_EXTRA= (empty)
 # leaves the P2 run out; POSITIONS=5 studies the summary's means and cycle maxima exactly
 # (about 3x the time). SPLIT=1 studies the root stress's driver and submodel errors apart
-# (the ladder runs read extra submodels: finer ones at the case's level, its size elsewhere).
+# (the ladder runs read extra submodels: the sectors beside its own at the case's level, the
+# case level's sector elsewhere).
 .PHONY: convergence
 CONV_EXTRA ?= 0:2
 CONV_LEVELS ?= 0 1 2
@@ -172,15 +173,18 @@ convergence: $(STAMP) ## discretisation error of every scalar: make convergence 
 	  $(if $(filter 1 yes true,$(SPLIT)),--split-root-stress)
 
 # The convergence study behind the ± of the case summaries, in the main `make` (before the
-# cases, whose summaries read it), one position each, no P2: 1-GB at levels 0 1 2 (peak
-# 16.3 GB at level 2, 1.1M DOFs: the fine root fillets) serves every case-1 case (same gear
-# set, scene, numerics); 2B-GA at levels 0 1 (Roache's two-grid GCI: its level 2 would need
-# about 25 GB) serves case 2. `make MAIN_CONVERGENCE=` leaves both out (summaries then say
-# `uncertainty: null` and why). P2 only in `make convergence`.
+# cases, whose summaries read it), one position each, no P2: 1-GB at levels 0 1 2 with the
+# root stress's driver and submodel errors split (peak at level 2, 1.1M DOFs: the fine root
+# fillets) serves every case-1 case (same gear set, scene, numerics); 2B-GA at levels 0 1
+# (Roache's two-grid GCI: its level 2 would need about 25 GB; no split: its level-1 run
+# would read a level-3 sector for each of its six loaded fillets) serves case 2.
+# `make MAIN_CONVERGENCE=` leaves both out (summaries then say `uncertainty: null` and why).
+# P2 only in `make convergence`.
 # Finished runs are reused while inputs and code are unchanged.
 .PHONY: convergence-main
 convergence-main: $(STAMP)
-	$(PY) -m studies.convergence 1-GB --levels 0 1 2 --extra --out $(RESULTS)/convergence
+	$(PY) -m studies.convergence 1-GB --levels 0 1 2 --extra --split-root-stress \
+	  --out $(RESULTS)/convergence
 	$(PY) -m studies.convergence 2B-GA --levels 0 1 --extra --out $(RESULTS)/convergence
 
 # The case-1 speed-against-error benchmark is the convergence study of 1-GB (with P2).

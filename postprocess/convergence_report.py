@@ -159,7 +159,7 @@ def _split_table(conv: dict) -> list[str]:
         "(solvers/root_submodel.py), so their error has two sources, studied apart: the "
         f"driver (every level's global solution read on the {sp0['fillet_mm']:g} mm submodel "
         "of the case's level, against the flank size) and the submodel (the case level's "
-        "global solution read on the submodels of it and the next two levels, the whole "
+        "global solution read on its submodel and those of the levels beside it, the whole "
         "sector refined, with read fillets of "
         + " / ".join(f"{f:g}" for f in sub_at)
         + " mm, against the fillet size). Extrapolated = driver limit x submodel limit / "

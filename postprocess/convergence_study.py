@@ -114,8 +114,9 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
       fillet f_D): the values of every ladder run on that submodel against the flank size
       (Richardson over three levels, the two-grid GCI over two);
     * submodel: the submodel's level (the whole sector refined), at the fixed driver of the
-      case's level: f_D and the two finer submodels (Richardson against the read fillet
-      size, the stress concentration's own length; a P2 submodel, order capped at 2).
+      case's level: f_D and the sectors read beside it, one coarser and one finer where the
+      run holds both (Richardson over the three against the read fillet size, the stress
+      concentration's own length; a P2 submodel, order capped at 2).
 
     Separable errors: the extrapolated value X = D_ext S_ext / v_D (D_ext, S_ext the two
     ladders' limits, v_D the case level's value); per run g of own fillet f_g the
@@ -130,10 +131,15 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
     if base is None or not base.get("fillet_scalars"):
         return None
     f_d = base["h_mm"]["fillet"]
-    finer = sorted((float(f) for f in base["fillet_scalars"] if float(f) < f_d), reverse=True)[:2]
+    # the case's sector and the two read beside it, coarse to fine
+    sizes = sorted({f_d, *(float(f) for f in base["fillet_scalars"])}, reverse=True)
+    if len(sizes) < 3:
+        return None
+    i = sizes.index(f_d)
+    sizes = sizes[max(0, min(i - 1, len(sizes) - 3)) :][:3]
     drv_vals = [_fillet_value(r, key, f_d) for r in lad]
-    sub_vals = [base["scalars"].get(key)] + [_fillet_value(base, key, f) for f in finer]
-    if len(finer) < 2 or any(v is None for v in drv_vals + sub_vals):
+    sub_vals = [_fillet_value(base, key, f) for f in sizes]
+    if any(v is None for v in drv_vals + sub_vals):
         return None
     labels = [run_label(r["level"], r["degree"]) for r in lad]
     h_drv = [r["h_mm"]["fine"] for r in lad]
@@ -142,10 +148,9 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
         labels, drv_vals = labels[-3:], drv_vals[-3:]
     else:
         drv = two_grid(h_drv, drv_vals, DRIVER_ORDER, zero_scale=zero_scale)
-    sizes = [f_d, *finer]
     sub = richardson(sizes, sub_vals, p_cap=P_CAP, zero_scale=zero_scale)
     u_sub = dict(zip(sizes, sub.uncertainty, strict=True))
-    v_d = sub_vals[0]
+    v_d = sub_vals[sizes.index(f_d)]
     ext = None
     if drv.extrapolated is not None and sub.extrapolated is not None and abs(v_d) > zero_scale:
         ext = drv.extrapolated * sub.extrapolated / v_d

@@ -47,9 +47,10 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
     read = [
         "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on a",
         "P2 submodel of those teeth (`solvers/root_submodel.py`: a sector of the gear reaching a",
-        "tooth space beyond them and 2.5 modules below the root, its loaded fillets meshed at",
-        "0.3 / 0.2 / 0.15 mm at levels 0 / 1 / 2, driven at its cut faces by the global",
-        "displacement and loaded by the solved contact forces): at each fillet vertex the mean",
+        "tooth space beyond them and 2.5 modules below the root, meshed at the next finer level",
+        "than the global model, its loaded fillets at 0.2 / 0.15 / 0.1 mm for levels 0 / 1 / 2,",
+        "driven at its cut faces by the global displacement and loaded by the solved contact",
+        "forces): at each fillet vertex the mean",
         "of the surface cells' own (linear) stress there,",
     ] if sub else [
         "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on",

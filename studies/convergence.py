@@ -41,6 +41,7 @@ from pathlib import Path
 
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
 from meshing import sizing
+from meshing.submodel import submodel_level
 from postprocess.convergence import run_label
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table
@@ -75,13 +76,14 @@ def _reuse_key(study, level: int, degree: int, positions: int, split: bool = Fal
 
 
 def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
-    """The submodels (levels of :func:`meshing.submodel.submodel_level`: the level's sizes
-    with its read fillet) a ladder run also reads the root stress on, at its own global
-    solution (:func:`postprocess.convergence_study.root_stress_split`): the run at the
-    case's level the next two finer submodels (the submodel ladder at a fixed driver: the
-    whole sector refined, fillet, flank and tooth), every other ladder run the case level's
-    submodel (the driver ladder at a fixed submodel). None off the ladder or without
-    submodels.
+    """The submodels (global levels whose sector, :func:`meshing.submodel.submodel_level`,
+    is read) a ladder run also reads the root stress on, at its own global solution
+    (:func:`postprocess.convergence_study.root_stress_split`): the run at the case's level
+    the sectors of its two neighbouring levels, one coarser and one finer where both exist
+    (the submodel ladder at a fixed driver: the whole sector refined, fillet, flank and
+    tooth; three sectors around the case's for Richardson, where a ladder of two finer ones
+    would need a level-4 sector), every other ladder run the case level's sector (the driver
+    ladder at a fixed submodel). None off the ladder or without submodels.
 
     The whole sector, not its fillet alone: 1-GB at roll 0, sun fillet on a 0.2 mm
     submodel, its other sizes those of level 1 / level 2: 844 / 857 MPa on the level-1
@@ -90,9 +92,16 @@ def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
     if degree != LADDER_DEGREE or study.numerics.root_stress != "submodel":
         return ()
     own = study.model.level
-    if level == own:
-        return tuple(range(own + 1, min(own + 3, len(sizing.LEVELS))))
-    return (own,)
+    if level != own:
+        return (own,)
+    top = len(sizing.LEVELS) - 1
+    fillets = {submodel_level(own).fillet}
+    picked = []
+    for k in (own - 1, own + 1, own + 2, own - 2):  # nearest first, one each side if there
+        if 0 <= k <= top and submodel_level(k).fillet not in fillets and len(picked) < 2:
+            fillets.add(submodel_level(k).fillet)
+            picked.append(k)
+    return tuple(sorted(picked))
 
 
 def _parse_extra(text: str) -> tuple[int, int]:

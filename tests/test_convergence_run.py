@@ -10,6 +10,7 @@ import json
 import pytest
 
 from cases.study_case import load_study_case
+from meshing.submodel import submodel_level
 from postprocess.case1_report import write_report
 from postprocess.convergence import summary_scalars
 from postprocess.convergence_study import scalar_table
@@ -25,8 +26,8 @@ def level0(tmp_path_factory):
     """1-GA at level 0, one position: the study driver's summary (with a convergence study of
     the gear set under the results folder) and a convergence run of the same position."""
     out = tmp_path_factory.mktemp("results")
-    # the submodel ladder's reading on the run's own submodel (level 0, 0.3 mm fillets): the
-    # plumbing of fillet_scalars, checked against the run's own root stress
+    # the submodel ladder's reading on the run's own submodel (level 0: level 1's sizes, 0.2 mm
+    # read fillets): the plumbing of fillet_scalars, checked against the run's own root stress
     row = solve_run("1-GA", 0, 1, 1, submodel_levels=(0,))
     rows = []
     for level, seconds in ((0, 10.0), (1, 20.0), (2, 110.0)):  # a ladder around the real run
@@ -70,7 +71,7 @@ def test_summary_carries_the_uncertainty_of_its_gear_set(level0):
 
 def test_a_submodel_reading_at_the_own_fillet_repeats_the_run(level0):
     _, _, row, _ = level0
-    again = row["fillet_scalars"]["0.3"]
+    again = row["fillet_scalars"][f"{submodel_level(0).fillet:g}"]
     keys = [
         k for k in row["scalars"] if k.startswith(("bending_stress.", "bending_stress_tangent."))
     ]

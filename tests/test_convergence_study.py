@@ -9,7 +9,7 @@ from dataclasses import replace
 import pytest
 
 from cases.study_case import load_study_case
-from meshing.sizing import LEVELS
+from meshing.sizing import LEVELS, with_fillet
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table, target
 from studies.files import write_json
@@ -212,15 +212,18 @@ def _separable(h: float, f: float) -> float:
     return A_ROOT * (1.0 - 0.02 * h * h) * (1.0 - 2.0 * f * f)
 
 
-def _split_rows(extras: bool = True) -> list[dict]:
-    """Ladder runs at levels 0-2 of a case at level 1, with the extra submodel readings of
-    studies.convergence.submodel_levels: level 1 on 0.15 and 0.1 mm, the others on 0.2."""
-    from meshing.submodel import SUBMODEL_FILLET
+def _split_rows(extras: bool = True, case_level: int = 1) -> list[dict]:
+    """Ladder runs at levels 0-2, each on its own sector (meshing.submodel.submodel_level),
+    with the extra submodel readings of studies.convergence.submodel_levels for a case at
+    ``case_level``: its run on the sectors of the levels beside it, the others on its own."""
+    from meshing.submodel import submodel_level
 
+    near = {1: (0, 2), 2: (1, 3)}[case_level]
     rows = []
     for level in (0, 1, 2):
-        h, f = LEVELS[level].fine, SUBMODEL_FILLET[level]
-        extra = SUBMODEL_FILLET[2:4] if level == 1 else (SUBMODEL_FILLET[1],)
+        h, f = LEVELS[level].fine, submodel_level(level).fillet
+        extra = [submodel_level(k).fillet for k in (near if level == case_level else
+                                                    (case_level,))]  # fmt: skip
         rows.append({
             "label": f"L{level}P1", "level": level, "degree": 1, "dofs": int(2e5 / h**3),
             "h_mm": {"fine": h, "fillet": f}, "grid_points_total": 100,
@@ -240,20 +243,31 @@ def test_root_stress_split_recovers_the_limit_of_separable_errors():
     assert sp["driver"]["status"] == sp["submodel"]["status"] == "monotone"
     assert sp["driver"]["order"] == pytest.approx(2.0, rel=1e-6)
     assert sp["submodel"]["order"] == pytest.approx(2.0, rel=1e-6)
+    # the submodel ladder: the case's sector (0.15 mm) between a coarser and a finer one
+    assert sp["submodel"]["values"] and sp["fillet_mm"] == 0.15
     # X = D_ext S_ext / v_D is the exact limit of a separable error (order 2 recovered)
     assert e["extrapolated"] == pytest.approx(A_ROOT, rel=1e-9)
     for r in rows:
         assert e["rel_error"][r["label"]] == pytest.approx(r["scalars"]["bending_stress.ring"]
                                                            / A_ROOT - 1.0, abs=1e-9)  # fmt: skip
-    # U of level 0 (0.3 mm, coarser than the submodel ladder): the driver's U at level 0,
-    # the step to 0.2 mm on the level-0 driver, and the submodel's U at 0.2 mm
+    # every run reads a sector of the submodel ladder (0.2 / 0.15 / 0.1 mm): its own U there
+    for i, r in enumerate(rows):
+        want = sp["driver"]["uncertainty"][i] + sp["submodel"]["uncertainty"][i]
+        assert e["uncertainty"][r["label"]] == pytest.approx(want, rel=1e-12)
+
+
+def test_root_stress_split_of_a_run_coarser_than_the_submodel_ladder():
+    """A case at level 2: the submodel ladder is 0.15 / 0.1 / 0.08 mm, and level 0 reads
+    0.2 mm: its U adds the step to the case's sector on its own driver."""
+    rows = _split_rows(case_level=2)
+    e = scalar_table(rows, case_level=2)["bending_stress.ring"]
+    sp = e["split"]
+    assert e["status"] == "split" and sp["fillet_mm"] == 0.1
+    assert e["extrapolated"] == pytest.approx(A_ROOT, rel=1e-9)
     v0 = rows[0]["scalars"]["bending_stress.ring"]
-    v0_f = rows[0]["fillet_scalars"]["0.2"]["bending_stress.ring"]
-    want = sp["driver"]["uncertainty"][0] + abs(v0 - v0_f) / v0 + sp["submodel"]["uncertainty"][0]
+    v0_f = rows[0]["fillet_scalars"]["0.1"]["bending_stress.ring"]
+    want = sp["driver"]["uncertainty"][0] + abs(v0 - v0_f) / v0 + sp["submodel"]["uncertainty"][1]
     assert e["uncertainty"]["L0P1"] == pytest.approx(want, rel=1e-12)
-    # level 2 reads 0.15 mm, on the submodel ladder: its own U there
-    want2 = sp["driver"]["uncertainty"][2] + sp["submodel"]["uncertainty"][1]
-    assert e["uncertainty"]["L2P1"] == pytest.approx(want2, rel=1e-12)
 
 
 def test_root_stress_without_the_submodel_readings_keeps_the_coupled_ladder():
@@ -277,14 +291,20 @@ def test_the_ladder_runs_read_the_two_submodel_ladders():
     from meshing.submodel import submodel_level
     from studies.convergence import submodel_levels
 
-    study = load_study_case("1-GB")  # level 1: 0.2 mm submodel fillets
+    study = load_study_case("1-GB")  # level 1: its sector at level 2's sizes, 0.15 mm
     assert study.model.level == 1
-    assert submodel_levels(study, 1, 1) == (2, 3)  # the submodel ladder, driver fixed
+    assert submodel_level(1) == with_fillet(2, 0.15)
+    assert submodel_levels(study, 1, 1) == (0, 2)  # the submodel ladder, driver fixed
     assert submodel_levels(study, 0, 1) == submodel_levels(study, 2, 1) == (1,)  # driver
     # the whole sector refines along the submodel ladder, its fillet the finest part
-    subs = [submodel_level(k) for k in (1, 2, 3)]
+    subs = [submodel_level(k) for k in (0, 1, 2)]
     assert [s.fillet for s in subs] == [0.2, 0.15, 0.1]
     assert subs[0].fine > subs[1].fine > subs[2].fine and subs[0].tooth > subs[2].tooth
+    # the finest level reads its own sizes; a case there reads two coarser sectors
+    top = len(LEVELS) - 1
+    assert submodel_level(top) == submodel_level(top - 1) == with_fillet(top, 0.08)
+    at_top = replace(study, model=replace(study.model, level=top))
+    assert submodel_levels(at_top, top, 1) == (top - 2,)
     assert submodel_levels(study, 0, 2) == ()  # off the ladder
     glob = replace(study, numerics=replace(study.numerics, root_stress="global"))
     assert submodel_levels(glob, 1, 1) == ()
