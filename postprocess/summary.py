@@ -85,7 +85,8 @@ def cycle_bending(records: list[dict]) -> dict:
     """FE root stress over the mesh cycle: per key the maximum over the positions of the
     surface value (``bending_stress``), of the value on ISO's 30 / 60 deg line
     (``bending_stress_tangent``), of the largest P1 cell value (``bending_stress_cell``) and
-    of the surface value within the face-end band (``bending_stress_face_end``), with
+    of the surface value within the face-end band (``bending_stress_face_end``), of the
+    value kept apart beside a contact point force (``bending_stress_near_load``), with
     submodels (:mod:`solvers.root_submodel`) also of the global model's own surface value
     (``bending_stress_global``, a check), the method in words (``bending_stress_method``),
     and where the surface maximum sits (``bending_stress_at``: position index, roll, tooth,
@@ -96,7 +97,7 @@ def cycle_bending(records: list[dict]) -> dict:
     recs = [(j, r) for j, r in enumerate(records) if r.get("bending_stress")]
     out: dict = {"bending_stress": None, "bending_stress_tangent": None,
                  "bending_stress_cell": None, "bending_stress_face_end": None,
-                 "bending_stress_at": None}  # fmt: skip
+                 "bending_stress_near_load": None, "bending_stress_at": None}  # fmt: skip
     if not recs:
         out["bending_stress_note"] = (
             "not read: the scene's root fillets are coarse (numerics.root_fillets; the "
@@ -115,6 +116,9 @@ def cycle_bending(records: list[dict]) -> dict:
     out["bending_stress_tangent"], _ = best(lambda b, k: (b.get("tangent") or {}).get(k))
     out["bending_stress_cell"], _ = best(lambda b, k: (b.get("cell_max") or {}).get(k))
     out["bending_stress_face_end"], _ = best(lambda b, k: (b.get("face_end") or {}).get(k))
+    out["bending_stress_near_load"], _ = best(
+        lambda b, k: ((b.get("locations") or {}).get(k) or {}).get("near_load")
+    )
     out["bending_stress_method"] = recs[0][1]["bending_stress"].get("method")
     if any(r["bending_stress"].get("global") for _, r in recs):  # read on submodels
         out["bending_stress_global"], _ = best(lambda b, k: (b.get("global") or {}).get(k))

@@ -311,9 +311,10 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         t0 = time.perf_counter()
         start = first - SUBMODEL_MARGIN
         loads = sector_loads(p, result, body, gear, start, n + 2 * SUBMODEL_MARGIN)
-        u = sub.solve(gb, gb.function(result.displacements[body]), loads, sector_turn(gear, first))
+        angle = sector_turn(gear, first)
+        u = sub.solve(gb, gb.function(result.displacements[body]), loads, angle)
         canon = [(t - start) % z for t in teeth[key]]
-        forces_at = loads[0] @ _turn(sector_turn(gear, first))  # canonical frame
+        forces_at = loads[0] @ _turn(angle)  # canonical frame: (Q^T x)^T = x^T Q
         rec = body_root_stress(sub, u, gear, {key: canon}, load_points=forces_at)[key]
         for k in ("tooth", "tangent_tooth"):  # canonical sector -> the gear's teeth
             if rec[k] is not None:

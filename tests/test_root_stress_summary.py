@@ -62,6 +62,25 @@ def test_report_sections_print_fe_beside_iso():
     assert "| | ring | 450 |" in text  # no uncertainty for it: no ±
 
 
+def test_a_value_kept_apart_beside_a_load_is_reported():
+    """The largest fillet value within one element of a contact point force
+    (solvers.root_stress near_load) is carried over the cycle and named in the report where
+    it exceeds the reported maximum."""
+    recs = [_pos(0.0, 500.0, 300.0, (480.0, 290.0), (400.0, 250.0)),
+            _pos(0.1, 520.0, 310.0, (470.0, 280.0), (410.0, 260.0))]  # fmt: skip
+    recs[0]["bending_stress"]["locations"]["sun"]["near_load"] = 900.0
+    recs[1]["bending_stress"]["locations"]["sun"]["near_load"] = 100.0
+    recs[1]["bending_stress"]["locations"]["ring"]["near_load"] = 200.0
+    out = cycle_bending(recs)
+    assert out["bending_stress_near_load"] == {"sun": 900.0, "ring": 200.0}
+    s = {"level": 1, "degree": 1, **out, "bending_stress_method": "P2 submodel"}
+    text = "\n".join(root_section({"1-GB-R": s}, ("sun", "ring"), ["1-GB-R"]))
+    assert "reported maximum at 1-GB-R sun 900 (reported 520)." in text
+    s["bending_stress_near_load"] = {"sun": 100.0, "ring": None}
+    text = "\n".join(root_section({"x": s}, ("sun", "ring"), ["x"]))
+    assert "reported maximum at no row of the table." in text
+
+
 def test_correction_note_reports_the_clipped_body_correction():
     """The case reports say how much of the zone model's FE body correction was clipped
     (eq. (6)), per run; runs without the entry (line grid, older summaries) say nothing."""
