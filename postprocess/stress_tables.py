@@ -115,7 +115,7 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
                 ratios.append(fe[k] / sig)
             if fe.get(k) and tan.get(k):
                 tang.append(tan[k] / fe[k])
-    if sub:
+    if sub and any(runs[n].get("bending_stress_near_load") is not None for n in order):
         lines += [
             "",
             "Beside a load: the fillet vertices within one fillet element of a contact point "

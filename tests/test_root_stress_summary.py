@@ -79,6 +79,8 @@ def test_a_value_kept_apart_beside_a_load_is_reported():
     s["bending_stress_near_load"] = {"sun": 100.0, "ring": None}
     text = "\n".join(root_section({"x": s}, ("sun", "ring"), ["x"]))
     assert "reported maximum at no row of the table." in text
+    del s["bending_stress_near_load"]  # a summary from before the rule: no claim either way
+    assert "Beside a load" not in "\n".join(root_section({"x": s}, ("sun",), ["x"]))
 
 
 def test_correction_note_reports_the_clipped_body_correction():
