@@ -254,6 +254,17 @@ class ElasticBody:
         """True once K is assembled, reduced and factorized (:meth:`setup`)."""
         return self._ready
 
+    def release(self) -> None:
+        """Free the solver (a factorization is the largest object of a run) and the
+        stiffness matrices of a body no later solve needs; the mesh, function space and
+        placement stay, and :meth:`setup` builds the rest again. Collective."""
+        for name in ("ksp", "K_red", "K"):
+            obj = getattr(self, name, None)
+            if obj is not None:
+                obj.destroy()
+                setattr(self, name, None)
+        self._ready = False
+
     @property
     def held(self) -> frozenset[tuple[str, int]]:
         """The (coupling, DOF) pairs held in the FE system (rigid unknowns)."""

@@ -99,6 +99,9 @@ def solve_position(
     _stage(progress, "post")
     train = train_results(model, result)
     out = {**train, **paper_moments(train, scene, study.gearset, spacing)}
+    if not store.reuse:  # no later position takes the factors: free them before the submodels
+        for body in model.problem.bodies.values():
+            body.release()
     # the root stress only where the scene refines the fillets it is read on; on submodels of
     # the loaded teeth (numerics.root_stress), the global model's own values kept as a check
     out["bending_stress"] = None
