@@ -17,11 +17,11 @@ when it was solved from the same inputs, code, level, degree and positions. Two 
 ``MemAvailable`` is at least ``--min-free-gb`` (a level-0 P2 run of a case-1 branch peaks at
 about 14 GB) and is otherwise skipped with the reason in the report. A run that fails (out
 of memory, timeout, error) is recorded and the study goes on. ``--split-root-stress``: the
-ladder runs also read the root stress on finer or coarser submodels at their own global
-solution (:func:`submodel_levels`), and the study splits the error of every root
-stress read on a submodel into the driver's and the submodel's
-(:func:`postprocess.convergence_study.root_stress_split`); not yet in the main ``make``
-(it adds the finer submodels' cost to the ladder).
+ladder runs also read the root stress on other sectors at their own global solution
+(:func:`submodel_levels`), and the study splits the error of every root stress read on a
+submodel into the driver's and the submodel's
+(:func:`postprocess.convergence_study.root_stress_split`); in the main ``make`` for 1-GB
+(the case level's run reads a level-3 sector per loaded fillet: about 15 min more).
 
 Writes ``<out>/<case>/convergence.json`` (:mod:`postprocess.convergence_study`: per scalar
 the values, status, observed order, extrapolated value, error and uncertainty of every run;

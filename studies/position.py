@@ -67,9 +67,10 @@ def solve_position(
     (``scene``, ``meshes``, ``model``, ``solve``, ``post``); ``scene_options``: passed to the
     scene builder (e.g. ``pinion_radial_offset`` in mm, ``phase_offsets``;
     :func:`meshing.scenes.planetary_scene`);
-    ``store``: bodies and meshes kept from earlier positions and cases (default: none kept);
-    ``submodel_levels``: read the root stress also on the submodels of these levels (the
-    level's sizes with its read fillet, :func:`meshing.submodel.submodel_level`) at the same
+    ``store``: bodies and meshes kept from earlier positions and cases (default: none kept;
+    a store without reuse has its bodies' factors freed after the solve);
+    ``submodel_levels``: read the root stress also on the submodels of these global levels
+    (their sectors, :func:`meshing.submodel.submodel_level`) at the same
     global solution, in ``bending_stress_fillets`` keyed by the read fillet size (``"%g"``):
     the submodel ladder of a convergence study (:mod:`studies.convergence`)."""
     store = BodyStore() if store is None else store
