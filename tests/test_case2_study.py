@@ -277,7 +277,12 @@ def test_double_pinion_study_parallel_equals_serial(tmp_path):
     case = folder / "my_double.toml"
     progress = Progress(comm, out=io.StringIO(), err=io.StringIO())
     summary = study_run.run_study(case, folder / "results", comm=comm, progress=progress)
-    ser = solve_position(load_study_case(case), 0.0, MPI.COMM_SELF, level=0)
+    # the serial reference without the root-stress submodels (every rank holds a whole
+    # serial model: with six sectors each the test peaked at 21 GB of 23); the moments
+    # compared here do not depend on how the root stress is read
+    study = load_study_case(case)
+    study = replace(study, numerics=replace(study.numerics, root_stress="global"))
+    ser = solve_position(study, 0.0, MPI.COMM_SELF, level=0)
     par = summary["positions"][0]
     scale = abs(ser["My_RP"])
     for key in (*ISSUE12, "Mx_SP", "My_SP", "Mx_RP", "My_RP", "M_LOA_SPRP_diff"):
