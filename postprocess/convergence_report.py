@@ -196,6 +196,20 @@ def _split_table(conv: dict) -> list[str]:
     return [*lines, ""]
 
 
+def _runs_code(conv: dict) -> list[str]:
+    """A line where the runs were solved by other code than the reduction's (``python -m
+    studies.convergence --reduce-only``)."""
+    other = [h for h in conv.get("runs_code_hash", []) if h != conv.get("code_hash")]
+    if not other:
+        return []
+    return [
+        f"Reduced again (`--reduce-only`) by code {conv['code_hash']} from runs solved by "
+        f"code {', '.join(other)}: the runs' values are those of that code; the reduction, "
+        "targets and report are this code's.",
+        "",
+    ]
+
+
 def write_report(conv: dict, folder: Path) -> Path:
     """Write ``report.md`` and the chart into ``folder``; returns the report path."""
     folder = Path(folder)
@@ -215,6 +229,7 @@ def write_report(conv: dict, folder: Path) -> Path:
         "",
     ]
     lines += _h_measure(conv)
+    lines += _runs_code(conv)
     lines += ["## Runs", "", *_runs_table(conv), ""]
     if not conv["scalars"]:
         lines += ["No scalar table: fewer than one finished ladder run.", ""]

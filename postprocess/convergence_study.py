@@ -40,9 +40,16 @@ from postprocess.convergence import (
 )
 
 P_CAP = 2.0
-# Edge values, not targets: contact-grid edge points, cell peaks, and the root stress within
-# one element of a face end (a corner value that grows with refinement, solvers.root_stress).
-EDGE_PATTERNS = ("edge", "contact_stress.", ".p_max_MPa", "bending_stress_face_end.")
+# Edge values, not targets: contact-grid edge points, cell peaks, the root stress within
+# one element of a face end (a corner value that grows with refinement, solvers.root_stress)
+# and the one beside a submodel's point force (the unresolved field of a point load).
+EDGE_PATTERNS = (
+    "edge",
+    "contact_stress.",
+    ".p_max_MPa",
+    "bending_stress_face_end.",
+    "bending_stress_near_load.",
+)
 # Checks, not targets: the global model's own fillet values beside a submodel's
 # (solvers.root_submodel) and the largest fillet cell value (a cell's mean, below the surface).
 CHECK_PATTERNS = ("bending_stress_global.", "bending_stress_cell.")

@@ -4,6 +4,7 @@ use, a speed-against-error chart.
 
     python -m studies.convergence 1-GB [--levels 0 1 2] [--extra 0:2 ...] [--positions 1]
         [--out results/convergence] [--min-free-gb 16] [--no-reuse] [--split-root-stress]
+        [--reduce-only]
 
 Every (level, degree) run solves the case's first ``--positions`` mesh positions (equally
 spaced over one base pitch, as ``studies.run``) in a fresh child process
@@ -22,6 +23,9 @@ ladder runs also read the root stress on other sectors at their own global solut
 submodel into the driver's and the submodel's
 (:func:`postprocess.convergence_study.root_stress_split`); in the main ``make`` for 1-GB
 (the case level's run reads a level-3 sector per loaded fillet: about 15 min more).
+``--reduce-only`` solves nothing: it reduces the stored runs of the same inputs again, from
+whatever code solved them (after a change to the reduction alone: targets, extrapolation,
+report), and the report names the code the runs came from.
 
 Writes ``<out>/<case>/convergence.json`` (:mod:`postprocess.convergence_study`: per scalar
 the values, status, observed order, extrapolated value, error and uncertainty of every run;
@@ -121,6 +125,8 @@ def _check(args) -> list[tuple[int, int]]:
             sizing.check_level(lv)
         except ValueError as exc:
             raise InputError(f"--levels: {exc}") from exc
+    if args.reduce_only and args.no_reuse:
+        raise InputError("--reduce-only and --no-reuse: give one (nothing would be left to reduce)")
     if len(set(args.levels)) < 2:
         raise InputError(
             f"--levels {args.levels}: give at least two different levels (three for "
@@ -138,7 +144,8 @@ def _check(args) -> list[tuple[int, int]]:
 
 
 def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
-    """The finished run in ``runs/<run>.json`` if it was solved with this study's key."""
+    """The finished run in ``runs/<run>.json`` if it was solved with this study's key (with
+    ``--reduce-only``: with this study's key but for the code's hash, which the row keeps)."""
     path = folder / "runs" / f"{run_label(level, degree)}.json"
     if args.no_reuse or not path.is_file():
         return None
@@ -147,7 +154,11 @@ def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
     except ResultFileError:
         return None
     key = _reuse_key(study, level, degree, args.positions, args.split_root_stress)
-    if isinstance(old, dict) and old.get("reuse_key") == key and "error" not in old:
+    if not isinstance(old, dict) or "error" in old or not isinstance(old.get("reuse_key"), dict):
+        return None
+    ignored = ("code_hash",) if args.reduce_only else ()
+    stored = {k: v for k, v in old["reuse_key"].items() if k not in ignored}
+    if stored == {k: v for k, v in key.items() if k not in ignored}:
         old["reused"] = True
         return old
     return None
@@ -160,6 +171,11 @@ def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
     if old is not None:
         return old
     label = run_label(level, degree)
+    if args.reduce_only:
+        raise InputError(
+            f"--reduce-only: no finished run {label} in {folder / 'runs'} solved from these "
+            "inputs, positions and submodel readings; run the study without --reduce-only"
+        )
     child = ["--one", args.case, str(level), str(degree), str(args.positions)]
     subs = submodel_levels(study, level, degree) if args.split_root_stress else ()
     if subs:
@@ -195,6 +211,11 @@ def study(args) -> Path:
         label = run_label(level, degree)
         extra = degree != LADDER_DEGREE
         free = mem_available_gb()
+        if extra and args.reduce_only and _reused(args, case, level, degree, folder) is None:
+            why = "no stored run of these inputs to reduce (--reduce-only)"
+            skipped.append({"label": label, "level": level, "degree": degree, "why": why})
+            print(f"{label}: skipped, {why}", flush=True)
+            continue
         if extra and free < args.min_free_gb and _reused(args, case, level, degree, folder) is None:
             why = (
                 f"MemAvailable {free:.1f} GB < {args.min_free_gb:g} GB asked for (--min-free-gb;"
@@ -212,6 +233,7 @@ def study(args) -> Path:
         "description": case.description,
         "match": match_key(case),
         "code_hash": code_hash(),
+        "runs_code_hash": sorted({r["reuse_key"]["code_hash"] for r in rows if "reuse_key" in r}),
         "positions": args.positions,
         "positions_note": POSITIONS_NOTE.get(
             args.positions,
@@ -262,6 +284,12 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--timeout", type=float, default=3600.0, help="per run (s)")
     ap.add_argument("--no-reuse", action="store_true", help="solve every run again")
+    ap.add_argument(
+        "--reduce-only",
+        action="store_true",
+        help="solve nothing: reduce the stored runs of these inputs again, whatever code "
+        "solved them (after a change to the reduction; the report names the runs' code)",
+    )
     ap.add_argument(
         "--split-root-stress",
         action="store_true",

@@ -12,7 +12,7 @@ from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, with_fillet
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table, target
-from studies.files import write_json
+from studies.files import read_json, write_json
 from studies.uncertainty import STUDY_FILE, match_key, summary_uncertainty
 
 LIMITS = {
@@ -79,6 +79,9 @@ def test_targets_leave_edge_peaks_and_offsets_out():
         "contact_stress_cycle.sun_pinion.p_max_MPa",
         "contact_stress_cycle.sun_pinion.edge_p_max_MPa",
         "contact_stress_cycle.sun_pinion.K_Hbeta",
+        "bending_stress_face_end.sun",  # the corner at a face end
+        "bending_stress_near_load.sun",  # beside a submodel's point force
+        "bending_stress_global.sun",  # the check beside a submodel's value
     ):
         assert target(key) is None, key
 
@@ -163,6 +166,38 @@ def test_convergence_cli_refuses_bad_input(argv, message, capsys, tmp_path):
     err = capsys.readouterr().err
     assert err.startswith("error: ") and message in err and len(err.strip().splitlines()) == 1
     assert not any(tmp_path.iterdir())  # nothing solved, nothing written
+
+
+def _stored_runs(folder, case, code: str) -> None:
+    """ROWS's ladder as finished runs of ``case`` solved by code ``code``."""
+    from studies.convergence import _reuse_key
+
+    (folder / "runs").mkdir(parents=True)
+    for row in ROWS[:3]:
+        key = {**_reuse_key(case, row["level"], row["degree"], 1), "code_hash": code}
+        write_json(folder / "runs" / f"{row['label']}.json", {**row, "reuse_key": key})
+
+
+def test_reduce_only_reduces_stored_runs_of_other_code(tmp_path):
+    """--reduce-only solves nothing: it reduces the stored runs of the same inputs, whatever
+    code solved them, and the report names that code; a ladder run it does not find is an
+    input error that writes nothing, and a run of other inputs is not taken."""
+    from studies.convergence import main
+
+    case = load_study_case("1-GB")
+    folder = tmp_path / case.name
+    argv = ["1-GB", "--levels", "0", "1", "2", "--out", str(tmp_path), "--reduce-only"]
+    _stored_runs(folder, case, "0123456789abcdef")
+    assert main(argv) == 0  # P2 (the default extra) is not stored: skipped, not solved
+    conv = read_json(folder / STUDY_FILE)
+    assert conv["runs_code_hash"] == ["0123456789abcdef"] != [conv["code_hash"]]
+    assert conv["labels"] == ["L0P1", "L1P1", "L2P1"] and conv["skipped"][0]["label"] == "L0P2"
+    assert conv["scalars"]["My_pin"]["extrapolated"] == pytest.approx(40.0, rel=1e-8)
+    assert "runs solved by code 0123456789abcdef" in (folder / "report.md").read_text()
+    # other inputs (another position count) are not reduced: nothing new is written
+    (folder / STUDY_FILE).unlink()
+    assert main([*argv, "--positions", "2"]) == 2
+    assert not (folder / STUDY_FILE).exists()
 
 
 def test_failed_child_is_a_row_with_its_error():
