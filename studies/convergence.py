@@ -22,7 +22,8 @@ ladder runs also read the root stress on other sectors at their own global solut
 (:func:`submodel_levels`), and the study splits the error of every root stress read on a
 submodel into the driver's and the submodel's
 (:func:`postprocess.convergence_study.root_stress_split`); in the main ``make`` for 1-GB
-(the case level's run reads a level-3 sector per loaded fillet: about 15 min more).
+and 2B-GA (the case level's run reads a level-3 sector per loaded fillet: about 15 and
+19 min more).
 ``--reduce-only`` solves nothing: it reduces the stored runs of the same inputs again, from
 whatever code solved them (after a change to the reduction alone: targets, extrapolation,
 report), and the report names the code the runs came from.
