@@ -295,7 +295,11 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
         ax.set_xlabel(xlabel)
         ax.grid(True, which="both", alpha=0.3)
         ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
-        minor = FormatStrFormatter("%g") if xkey == "peak_rss_mb" else NullFormatter()
+        xs = [v[xkey] for v in verdicts]
+        # label the minor ticks of memory, and of times within one decade (else no tick
+        # would carry a number: 2B-GA's 113-384 s)
+        labelled = xkey == "peak_rss_mb" or max(xs) < 10.0 * min(xs)
+        minor = FormatStrFormatter("%g") if labelled else NullFormatter()
         ax.xaxis.set_minor_formatter(minor)
         ax.yaxis.set_major_formatter(PercentFormatter(1.0, decimals=None))
     axes[0].set_ylabel("|error| against the extrapolation, or its bound (hollow)")
