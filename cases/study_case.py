@@ -120,6 +120,11 @@ class Numerics:
     # BLR dropping threshold or CG relative residual, LINEAR_TOLERANCE_RANGE; None: the
     # solver's default (1e-6 BLR, 1e-8 CG); "mumps" takes none.
     linear_tolerance: float | None = None
+    # The LU factors ("mumps", "mumps-blr") on disk, read back for every block of solves: the
+    # same answer (to round-off), memory of about the largest front instead of all factors,
+    # slower solves; for a level whose factors do not fit in memory. Folder:
+    # $PLANETARY_OOC_DIR, else the system's temporary folder.
+    out_of_core: bool = False
     # Root fillets refined where the root stress is read, one of ROOT_FILLETS.
     root_fillets: str = "auto"
     # Where the root stress is read, one of ROOT_STRESS_METHODS.
@@ -186,6 +191,13 @@ class Numerics:
                     "or omitted for the solver's default"
                 )
             object.__setattr__(self, "linear_tolerance", float(t))
+        if not isinstance(self.out_of_core, bool):
+            raise CaseError(f"numerics.out_of_core = {self.out_of_core!r}: must be true or false")
+        if self.out_of_core and self.linear_solver == "cg-gamg":
+            raise CaseError(
+                "numerics.out_of_core = true: linear_solver 'cg-gamg' has no factors to keep "
+                "on disk (choose 'mumps' or 'mumps-blr', or omit out_of_core)"
+            )
 
 
 DEFAULTS = Numerics()
@@ -374,15 +386,17 @@ def study_inputs(study: StudyCase) -> dict[str, Any]:
     shifts computed) and JSON-ready: the study case's name, bearing, material, model and
     numerics; the gear set's name, kind, input torque, planets, power path, every
     :class:`~gears.spec.GearSpec` field of every gear and the meshes. File paths and the
-    description are left out: moving a file or rewording it does not change the run."""
+    description are left out: moving a file or rewording it does not change the run; so is
+    ``numerics.out_of_core``, where the factors are kept (the same answer to round-off)."""
     gs = study.gearset
+    numerics = {k: v for k, v in asdict(study.numerics).items() if k != "out_of_core"}
     return {
         "study_case": {
             "name": study.name,
             "bearing": asdict(study.bearing),
             "material": asdict(study.material),
             "model": asdict(study.model),
-            "numerics": asdict(study.numerics),
+            "numerics": numerics,
             "system": {
                 "sun_radial_stiffness": study.system.sun_radial_stiffness,
                 "pin_position_errors_um": [list(e) for e in study.system.pin_position_errors_um],

@@ -36,6 +36,13 @@ with its own solver of K_red, set up once and reused for every right-hand side:
 
 ``make bench-linear`` measures all three (results/bench/linear_solver.md).
 
+Out of core (``LinearSolver(out_of_core=True)``, ``[numerics] out_of_core``; the LU kinds):
+MUMPS writes the factors to disk (ICNTL(22) = 1, a fresh folder per body under
+``$PLANETARY_OOC_DIR`` or the system's temporary folder, removed with the body) and reads
+them back for every block of substitutions. The same factorization, so the same answer to
+round-off; memory about the largest frontal matrix instead of the whole factor, for bodies
+whose factors do not fit beside each other.
+
 Parallel layout of u_red: every rank owns its FE DOFs in DOLFINx order; the reference DOFs
 are appended to rank 0's block, so a full global index g becomes g + n_ref on ranks > 0.
 """
@@ -43,6 +50,10 @@ are appended to rank 0's block, so a full global index g becomes g + n_ref on ra
 from __future__ import annotations
 
 import itertools
+import os
+import shutil
+import tempfile
+import weakref
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -77,10 +88,11 @@ DEFAULT_TOLERANCE = {"mumps": None, "mumps-blr": 1e-6, "cg-gamg": 1e-8}
 class LinearSolver:
     """How a body's K_red is solved (module docstring): ``kind`` one of LINEAR_SOLVERS,
     ``tolerance`` the BLR dropping threshold or the CG relative residual (None: the kind's
-    default)."""
+    default), ``out_of_core`` the LU factors on disk (module docstring)."""
 
     kind: str = "mumps"
     tolerance: float | None = None
+    out_of_core: bool = False
 
     def __post_init__(self):
         if self.kind not in LINEAR_SOLVERS:
@@ -89,6 +101,8 @@ class LinearSolver:
             object.__setattr__(self, "tolerance", DEFAULT_TOLERANCE[self.kind])
         elif self.kind == "mumps":
             raise ValueError("linear solver 'mumps' is exact: it takes no tolerance")
+        if self.out_of_core and not self.factorized:
+            raise ValueError(f"linear solver {self.kind!r} has no factors to keep out of core")
 
     @property
     def factorized(self) -> bool:
@@ -224,6 +238,7 @@ class ElasticBody:
         self.translation = np.zeros(self.gdim)
         self._held: set[tuple[str, int]] = set()
         self._ready = False
+        self._ooc_dir: str | None = None
         self.timings: dict[str, float] = {}
 
     # ------------------------------------------------------------------ placement
@@ -263,6 +278,9 @@ class ElasticBody:
             if obj is not None:
                 obj.destroy()
                 setattr(self, name, None)
+        if self._ooc_dir is not None:
+            shutil.rmtree(self._ooc_dir, ignore_errors=True)
+            self._ooc_dir = None
         self._ready = False
 
     @property
@@ -513,7 +531,20 @@ class ElasticBody:
         }
         if ls.kind == "mumps-blr":
             opts.update({"mat_mumps_icntl_35": 2, "mat_mumps_cntl_7": ls.tolerance})
+        if ls.out_of_core:
+            opts.update({"mat_mumps_icntl_22": 1, "mat_mumps_ooc_tmpdir": self._ooc_folder()})
         return opts
+
+    def _ooc_folder(self) -> str:
+        """This rank's folder for the body's out-of-core factors (removed by :meth:`release`,
+        or when the body is collected)."""
+        if self._ooc_dir is None:
+            root = os.environ.get("PLANETARY_OOC_DIR") or None
+            if root is not None:
+                os.makedirs(root, exist_ok=True)
+            self._ooc_dir = tempfile.mkdtemp(prefix=f"ooc-{self.prefix}", dir=root)
+            weakref.finalize(self, shutil.rmtree, self._ooc_dir, True)
+        return self._ooc_dir
 
     def _near_null_space(self) -> None:
         """The body's rigid modes (orthonormalised) as K_red's near null space (GAMG)."""

@@ -134,7 +134,7 @@ def linear_solver(study) -> LinearSolver:
     """The bodies' :class:`solvers.elastic_body.LinearSolver` of the study's numerics; part
     of every body's store key, so a body set up with another solver is never reused."""
     num = study.numerics
-    return LinearSolver(num.linear_solver, num.linear_tolerance)
+    return LinearSolver(num.linear_solver, num.linear_tolerance, num.out_of_core)
 
 
 def _held_body(store, key, make, held):

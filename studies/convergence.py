@@ -4,7 +4,7 @@ use, a speed-against-error chart.
 
     python -m studies.convergence 1-GB [--levels 0 1 2] [--extra 0:2 ...] [--positions 1]
         [--out results/convergence] [--min-free-gb 16] [--no-reuse] [--split-root-stress]
-        [--reduce-only]
+        [--reduce-only] [--out-of-core 2]
 
 Every (level, degree) run solves the case's first ``--positions`` mesh positions (equally
 spaced over one base pitch, as ``studies.run``) in a fresh child process
@@ -24,6 +24,9 @@ submodel into the driver's and the submodel's
 (:func:`postprocess.convergence_study.root_stress_split`); in the main ``make`` for 1-GB
 and 2B-GA (the case level's run reads a level-3 sector per loaded fillet: about 15 and
 19 min more).
+``--out-of-core L ...``: the runs at these levels keep their LU factors on disk
+(``numerics.out_of_core``: the same answer, the memory of about one frontal matrix, slower
+solves; case 2's level 2, whose four bodies' factors do not fit beside each other in 23 GB).
 ``--reduce-only`` solves nothing: it reduces the stored runs of the same inputs again, from
 whatever code solved them (after a change to the reduction alone: targets, extrapolation,
 report), and the report names the code the runs came from.
@@ -69,7 +72,9 @@ POSITIONS_NOTE = {
 }
 
 
-def _reuse_key(study, level: int, degree: int, positions: int, split: bool = False) -> dict:
+def _reuse_key(
+    study, level: int, degree: int, positions: int, split: bool = False, ooc: bool = False
+) -> dict:
     return {
         "inputs_hash": inputs_hash(study),
         "code_hash": code_hash(),
@@ -77,6 +82,8 @@ def _reuse_key(study, level: int, degree: int, positions: int, split: bool = Fal
         "degree": degree,
         "positions": positions,
         "submodel_levels": list(submodel_levels(study, level, degree) if split else ()),
+        # the same answer, but another time and memory on the chart
+        "out_of_core": ooc,
     }
 
 
@@ -128,6 +135,9 @@ def _check(args) -> list[tuple[int, int]]:
             raise InputError(f"--levels: {exc}") from exc
     if args.reduce_only and args.no_reuse:
         raise InputError("--reduce-only and --no-reuse: give one (nothing would be left to reduce)")
+    for lv in args.out_of_core:
+        if lv not in args.levels:
+            raise InputError(f"--out-of-core {lv}: not one of --levels {sorted(set(args.levels))}")
     if len(set(args.levels)) < 2:
         raise InputError(
             f"--levels {args.levels}: give at least two different levels (three for "
@@ -154,11 +164,13 @@ def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
         old = read_json(path)
     except ResultFileError:
         return None
-    key = _reuse_key(study, level, degree, args.positions, args.split_root_stress)
+    key = _reuse_key(study, level, degree, args.positions, args.split_root_stress,
+                     level in args.out_of_core)  # fmt: skip
     if not isinstance(old, dict) or "error" in old or not isinstance(old.get("reuse_key"), dict):
         return None
     ignored = ("code_hash",) if args.reduce_only else ()
-    stored = {k: v for k, v in old["reuse_key"].items() if k not in ignored}
+    stored = {"out_of_core": False, **old["reuse_key"]}  # runs stored before the option
+    stored = {k: v for k, v in stored.items() if k not in ignored}
     if stored == {k: v for k, v in key.items() if k not in ignored}:
         old["reused"] = True
         return old
@@ -181,9 +193,13 @@ def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
     subs = submodel_levels(study, level, degree) if args.split_root_stress else ()
     if subs:
         child += ["--submodels", *(str(k) for k in subs)]
+    ooc = level in args.out_of_core
+    if ooc:
+        child += ["--out-of-core-run"]
     row = run_child("studies.convergence", child, level, degree, args.timeout)
     row["label"], row["reused"] = label, False
-    row["reuse_key"] = _reuse_key(study, level, degree, args.positions, args.split_root_stress)
+    row["reuse_key"] = _reuse_key(study, level, degree, args.positions, args.split_root_stress,
+                                  ooc)  # fmt: skip
     write_json(folder / "runs" / f"{label}.json", row)
     return row
 
@@ -296,7 +312,17 @@ def main(argv=None) -> int:
         action="store_true",
         help="study the root stress's driver and submodel errors apart (extra submodel readings)",
     )
+    ap.add_argument(
+        "--out-of-core",
+        type=int,
+        nargs="*",
+        default=[],
+        metavar="L",
+        help="solve these levels with the LU factors on disk (numerics.out_of_core: the same "
+        "answer, less memory, slower solves)",
+    )
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
+    ap.add_argument("--out-of-core-run", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)
     ap.add_argument("--submodels", type=int, nargs="*", default=[], help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -305,7 +331,12 @@ def main(argv=None) -> int:
         return guarded(
             lambda: print_row(
                 solve_run(
-                    case, int(level), int(degree), int(n), submodel_levels=tuple(args.submodels)
+                    case,
+                    int(level),
+                    int(degree),
+                    int(n),
+                    numerics={"out_of_core": True} if args.out_of_core_run else None,
+                    submodel_levels=tuple(args.submodels),
                 )
             ),
             traceback=True,
