@@ -156,6 +156,7 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
         (["1-GB", "--extra", "0:3"], "--extra '0:3': the degree must be 1 or 2"),
         (["1-GB", "--extra", "x"], "must be LEVEL:DEGREE"),
         (["1-GB", "--levels", "0", "1", "9"], "level = 9"),
+        (["1-GB", "--levels", "0", "1", "--out-of-core", "2"], "--out-of-core 2: not one of"),
         (["no-such-case"], "no-such-case"),
     ],
 )
@@ -168,13 +169,19 @@ def test_convergence_cli_refuses_bad_input(argv, message, capsys, tmp_path):
     assert not any(tmp_path.iterdir())  # nothing solved, nothing written
 
 
-def _stored_runs(folder, case, code: str) -> None:
-    """ROWS's ladder as finished runs of ``case`` solved by code ``code``."""
+def _stored_runs(folder, case, code: str, ooc: tuple[int, ...] = ()) -> None:
+    """ROWS's ladder as finished runs of ``case`` solved by code ``code``, the levels
+    ``ooc`` out of core; the others' keys as stored before the out-of-core option (no
+    ``out_of_core`` entry)."""
     from studies.convergence import _reuse_key
 
     (folder / "runs").mkdir(parents=True)
     for row in ROWS[:3]:
         key = {**_reuse_key(case, row["level"], row["degree"], 1), "code_hash": code}
+        if row["level"] in ooc:
+            key["out_of_core"] = True
+        else:
+            del key["out_of_core"]
         write_json(folder / "runs" / f"{row['label']}.json", {**row, "reuse_key": key})
 
 
@@ -198,6 +205,22 @@ def test_reduce_only_reduces_stored_runs_of_other_code(tmp_path):
     (folder / STUDY_FILE).unlink()
     assert main([*argv, "--positions", "2"]) == 2
     assert not (folder / STUDY_FILE).exists()
+
+
+def test_an_out_of_core_run_is_reduced_only_as_one(tmp_path):
+    """A run solved out of core is taken for a study that asks for that level out of core
+    (its time and memory are on the chart), and not for one that asks for it in core; the
+    runs stored before the option count as in core."""
+    from studies.convergence import main
+
+    case = load_study_case("1-GB")
+    folder = tmp_path / case.name
+    _stored_runs(folder, case, "0123456789abcdef", ooc=(2,))
+    argv = ["1-GB", "--levels", "0", "1", "2", "--out", str(tmp_path), "--reduce-only"]
+    assert main(argv) == 2  # L2P1 in core is not stored
+    assert not (folder / STUDY_FILE).exists()
+    assert main([*argv, "--out-of-core", "2"]) == 0
+    assert read_json(folder / STUDY_FILE)["labels"] == ["L0P1", "L1P1", "L2P1"]
 
 
 def test_failed_child_is_a_row_with_its_error():

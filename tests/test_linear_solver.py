@@ -1,6 +1,7 @@
 """The bodies' linear solvers (solvers.elastic_body.LinearSolver, ``[numerics]
 linear_solver``): block low-rank MUMPS and CG/GAMG give the exact LU's contact solution, a
-CG that does not converge is an error, and the case file's field is checked.
+CG that does not converge is an error, out-of-core factors give the in-core answer and leave
+no file behind, and the case file's fields are checked.
 
 The measured speed and memory of the three on the case meshes are in ``make bench-linear``.
 """
@@ -69,9 +70,71 @@ def test_the_case_file_and_the_solver_know_the_same_solvers():
     assert study_case.LINEAR_SOLVERS == elastic_body.LINEAR_SOLVERS
 
 
+def _ooc_solve(comm, tmp, monkeypatch):
+    monkeypatch.setenv("PLANETARY_OOC_DIR", str(tmp))
+    problem, f, q = _solve("mumps", comm, out_of_core=True)
+    for body in problem.bodies.values():
+        assert body.ksp.getPC().getFactorMatrix().getMumpsIcntl(22) == 1  # factors on disk
+    # every body wrote its factor files (this rank's) in its own folder under the root
+    folders = [p for p in tmp.iterdir() if p.is_dir()]
+    assert len(folders) == len(problem.bodies)
+    assert all(any(p.iterdir()) for p in folders)
+    for body in problem.bodies.values():
+        body.release()
+    comm.Barrier()
+    return f, q
+
+
+def _same_solution(f, q, f0, q0):
+    # the same LU, its factors read back from disk: the same answer to round-off (measured
+    # 2e-14 relative on one rank)
+    assert np.abs(f - f0).max() <= 1e-10 * np.abs(f0).max()
+    assert np.abs(q - q0).max() <= 1e-10 * np.abs(q0).max()
+
+
+def test_out_of_core_factors_give_the_in_core_answer_and_are_removed(exact, tmp_path,
+                                                                      monkeypatch):  # fmt: skip
+    _, f0, q0 = exact
+    f, q = _ooc_solve(MPI.COMM_WORLD, tmp_path, monkeypatch)
+    _same_solution(f, q, f0, q0)
+    assert not any(tmp_path.iterdir())  # release() removed every body's folder
+
+
+@pytest.mark.mpi
+def test_out_of_core_on_two_ranks_gives_the_serial_answer(tmp_path_factory, monkeypatch):
+    comm = MPI.COMM_WORLD
+    tmp = tmp_path_factory.mktemp(f"ooc{comm.rank}")  # one folder per rank
+    _, f0, q0 = _solve("mumps", comm)
+    f, q = _ooc_solve(comm, tmp, monkeypatch)
+    _same_solution(f, q, f0, q0)
+    assert not any(tmp.iterdir())
+
+
+def test_out_of_core_needs_factors():
+    with pytest.raises(ValueError, match="no factors to keep out of core"):
+        LinearSolver("cg-gamg", out_of_core=True)
+    assert LinearSolver("mumps-blr", out_of_core=True).tolerance == 1e-6
+
+
+def test_out_of_core_is_not_an_input_of_the_run():
+    """Where the factors are kept does not change the answer, so it is not in the inputs
+    hash that keys stored results (a run solved in core serves one asked out of core)."""
+    from dataclasses import replace
+
+    from cases.study_case import inputs_hash, load_study_case
+
+    study = load_study_case("1-GA")
+    ooc = replace(study, numerics=replace(study.numerics, out_of_core=True))
+    assert inputs_hash(ooc) == inputs_hash(study)
+    other = replace(study, numerics=replace(study.numerics, penalty_factor=10.0))
+    assert inputs_hash(other) != inputs_hash(study)
+
+
 @pytest.mark.parametrize(
     "fields, words",
     [
+        ({"out_of_core": 1}, "numerics.out_of_core = 1: must be true or false"),
+        ({"out_of_core": True, "linear_solver": "cg-gamg"}, "'cg-gamg' has no factors"),
         ({"linear_solver": "lu"}, "numerics.linear_solver = 'lu': must be one of"),
         ({"linear_tolerance": 1e-6}, "'mumps' is exact and takes no tolerance"),
         ({"linear_solver": "cg-gamg", "linear_tolerance": 0.1}, "must be a number in"),
