@@ -4,7 +4,7 @@ use, a speed-against-error chart.
 
     python -m studies.convergence 1-GB [--levels 0 1 2] [--extra 0:2 ...] [--positions 1]
         [--out results/convergence] [--min-free-gb 16] [--no-reuse] [--split-root-stress]
-        [--reduce-only] [--out-of-core 2]
+        [--reduce-only] [--out-of-core 2 0:2]
 
 Every (level, degree) run solves the case's first ``--positions`` mesh positions (equally
 spaced over one base pitch, as ``studies.run``) in a fresh child process
@@ -24,7 +24,8 @@ submodel into the driver's and the submodel's
 (:func:`postprocess.convergence_study.root_stress_split`); in the main ``make`` for 1-GB
 and 2B-GA (the case level's run reads a level-3 sector per loaded fillet: about 15 and
 19 min more).
-``--out-of-core L ...``: the runs at these levels keep their LU factors on disk
+``--out-of-core L L:D ...``: these runs (a ladder level, or level:degree) keep their LU
+factors on disk
 (``numerics.out_of_core``: the same answer, the memory of about one frontal matrix, slower
 solves; case 2's level 2, whose four bodies' factors do not fit beside each other in 23 GB).
 ``--reduce-only`` solves nothing: it reduces the stored runs of the same inputs again, from
@@ -116,13 +117,13 @@ def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
     return tuple(sorted(picked))
 
 
-def _parse_extra(text: str) -> tuple[int, int]:
+def _parse_extra(text: str, option: str = "--extra") -> tuple[int, int]:
     try:
         level, degree = (int(v) for v in text.split(":"))
     except ValueError as exc:
-        raise InputError(f"--extra {text!r}: must be LEVEL:DEGREE, e.g. 0:2") from exc
+        raise InputError(f"{option} {text!r}: must be LEVEL:DEGREE, e.g. 0:2") from exc
     if degree not in (1, 2):
-        raise InputError(f"--extra {text!r}: the degree must be 1 or 2")
+        raise InputError(f"{option} {text!r}: the degree must be 1 or 2")
     return level, degree
 
 
@@ -135,9 +136,6 @@ def _check(args) -> list[tuple[int, int]]:
             raise InputError(f"--levels: {exc}") from exc
     if args.reduce_only and args.no_reuse:
         raise InputError("--reduce-only and --no-reuse: give one (nothing would be left to reduce)")
-    for lv in args.out_of_core:
-        if lv not in args.levels:
-            raise InputError(f"--out-of-core {lv}: not one of --levels {sorted(set(args.levels))}")
     if len(set(args.levels)) < 2:
         raise InputError(
             f"--levels {args.levels}: give at least two different levels (three for "
@@ -151,6 +149,15 @@ def _check(args) -> list[tuple[int, int]]:
         sizing.check_level(run[0])
         if run not in runs:
             runs.append(run)
+    args.ooc_runs = set()
+    for item in args.out_of_core:
+        run = (int(item), LADDER_DEGREE) if item.isdigit() else _parse_extra(item, "--out-of-core")
+        if run not in runs:
+            raise InputError(
+                f"--out-of-core {item}: not a run of this study "
+                f"({', '.join(run_label(*r) for r in runs)})"
+            )
+        args.ooc_runs.add(run)
     return runs
 
 
@@ -165,7 +172,7 @@ def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
     except ResultFileError:
         return None
     key = _reuse_key(study, level, degree, args.positions, args.split_root_stress,
-                     level in args.out_of_core)  # fmt: skip
+                     (level, degree) in args.ooc_runs)  # fmt: skip
     if not isinstance(old, dict) or "error" in old or not isinstance(old.get("reuse_key"), dict):
         return None
     ignored = ("code_hash",) if args.reduce_only else ()
@@ -193,7 +200,7 @@ def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
     subs = submodel_levels(study, level, degree) if args.split_root_stress else ()
     if subs:
         child += ["--submodels", *(str(k) for k in subs)]
-    ooc = level in args.out_of_core
+    ooc = (level, degree) in args.ooc_runs
     if ooc:
         child += ["--out-of-core-run"]
     row = run_child("studies.convergence", child, level, degree, args.timeout)
@@ -314,11 +321,10 @@ def main(argv=None) -> int:
     )
     ap.add_argument(
         "--out-of-core",
-        type=int,
         nargs="*",
         default=[],
-        metavar="L",
-        help="solve these levels with the LU factors on disk (numerics.out_of_core: the same "
+        metavar="L|L:D",
+        help="solve these runs with the LU factors on disk (numerics.out_of_core: the same "
         "answer, less memory, slower solves)",
     )
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")

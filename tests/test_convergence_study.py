@@ -156,7 +156,8 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
         (["1-GB", "--extra", "0:3"], "--extra '0:3': the degree must be 1 or 2"),
         (["1-GB", "--extra", "x"], "must be LEVEL:DEGREE"),
         (["1-GB", "--levels", "0", "1", "9"], "level = 9"),
-        (["1-GB", "--levels", "0", "1", "--out-of-core", "2"], "--out-of-core 2: not one of"),
+        (["1-GB", "--levels", "0", "1", "--out-of-core", "2"], "--out-of-core 2: not a run"),
+        (["1-GB", "--levels", "0", "1", "--out-of-core", "0:x"], "--out-of-core '0:x': must be"),
         (["no-such-case"], "no-such-case"),
     ],
 )
