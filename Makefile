@@ -157,8 +157,9 @@ bench-contact: $(STAMP) ## line vs zone contact model: results/bench/contact_gri
 # step, skipped with a note when less than 16 GB are free: it peaks at ~14 GB), one mesh
 # position, each run in its own process (time, peak memory); Richardson extrapolation of every
 # summary scalar, the error and uncertainty of each run, the level to use, a speed-against-
-# error chart. CONV_LEVELS="0 1" for case 2, whose level 2 does not fit in 23 GB (two levels:
-# Roache's two-grid GCI). Finished runs are reused while inputs and code are unchanged. CONV_EXTRA= (empty)
+# error chart. OOC="2 0:2" solves those runs with the LU factors on disk (numerics.out_of_core:
+# the same answer, less memory, slower solves): case 2, whose level-2 and level-0 P2 factors
+# do not fit in 23 GB in core. Finished runs are reused while inputs and code are unchanged. CONV_EXTRA= (empty)
 # leaves the P2 run out; POSITIONS=5 studies the summary's means and cycle maxima exactly
 # (about 3x the time). SPLIT=1 studies the root stress's driver and submodel errors apart
 # (the ladder runs read extra submodels: the sectors beside its own at the case's level, the
@@ -168,11 +169,12 @@ CONV_EXTRA ?= 0:2
 CONV_LEVELS ?= 0 1 2
 POSITIONS ?= 1
 SPLIT ?=
+OOC ?=
 convergence: $(STAMP) ## discretisation error of every scalar: make convergence CASE=1-GB -> results/convergence/<case>/
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make convergence CASE=1-GB" >&2; exit 2; }
 	$(PY) -m studies.convergence $(CASE) --levels $(CONV_LEVELS) --extra $(CONV_EXTRA) \
 	  --positions $(POSITIONS) --out $(RESULTS)/convergence \
-	  $(if $(filter 1 yes true,$(SPLIT)),--split-root-stress)
+	  $(if $(filter 1 yes true,$(SPLIT)),--split-root-stress) $(if $(OOC),--out-of-core $(OOC))
 
 # The convergence study behind the ± of the case summaries, in the main `make` (before the
 # cases, whose summaries read it), one position each, no P2: 1-GB at levels 0 1 2 with the
