@@ -1,8 +1,12 @@
 """Linear solver benchmark (issue 13 item 5): the bodies' exact MUMPS LU against block
-low-rank MUMPS and CG/GAMG (``[numerics] linear_solver``, :mod:`solvers.elastic_body`).
+low-rank MUMPS, CG/GAMG and the LU out of core (``[numerics] linear_solver`` and
+``out_of_core``, :mod:`solvers.elastic_body`).
 
     python -m studies.bench_linear [--case 1-GB] [--levels 1 2] [--iterative-max-level 1]
-        [--solvers mumps mumps-blr cg-gamg] [--tolerances mumps-blr:1e-6 ...] [--out results/bench]
+        [--solvers mumps mumps-blr cg-gamg mumps+ooc] [--tolerances mumps-blr:1e-6 ...]
+        [--out results/bench]
+
+A solver ``<kind>+ooc`` is the LU ``<kind>`` with its factors on disk.
 
 Per level and solver, one mesh position of the case solved in a fresh child process
 (:func:`studies.position_runs.run_child`, the runs of :mod:`studies.convergence`), so the
@@ -29,18 +33,24 @@ from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, write_json
 from studies.position_runs import print_row, run_child, solve_run
 
+#: the solvers a run can be asked for: every linear solver, and the LU ones out of core
+SOLVERS = (*LINEAR_SOLVERS, "mumps+ooc", "mumps-blr+ooc")
+OOC = "+ooc"
+
 #: the scalars whose change is reported (moments first; the rest of the row is in the JSON)
 MOMENTS = ("My_pin", "Mx_pin", "M_LOA_sun", "M_LOA_ring")
 NOISE = 1e-6
 
 
 def _solver_numerics(solver: str, tolerances: dict[str, float]) -> dict:
-    return {"linear_solver": solver, "linear_tolerance": tolerances.get(solver)}
+    kind = solver.removesuffix(OOC)
+    return {"linear_solver": kind, "linear_tolerance": tolerances.get(kind),
+            "out_of_core": solver.endswith(OOC)}  # fmt: skip
 
 
 def _tolerance(solver: str, given: float | None) -> float | None:
     """The tolerance a run used: the given one, else the solver's default."""
-    return given if given is not None else DEFAULT_TOLERANCE[solver]
+    return given if given is not None else DEFAULT_TOLERANCE[solver.removesuffix(OOC)]
 
 
 def _changes(row: dict, ref: dict) -> dict[str, float]:
@@ -65,7 +75,8 @@ def _md(case: str, rows: list[dict]) -> str:
         "MUMPS LU of the same level in this run; max |change| over every moment "
         f"({', '.join(MOMENTS)}) and over every reported scalar (stresses included; "
         "Mz_pin, zero by construction, left out). Tolerance: the BLR dropping threshold "
-        "(MUMPS CNTL(7)) or the CG relative residual.",
+        "(MUMPS CNTL(7)) or the CG relative residual. `+ooc`: the factors on disk "
+        "(MUMPS ICNTL(22)).",
         "",
         "| level | solver | tolerance | DOFs | factorization (s) | compliance (s) "
         "| total (s) | peak memory (GB) | max moment change | max scalar change |",
@@ -141,7 +152,7 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--case", default="1-GB")
     ap.add_argument("--levels", type=int, nargs="+", default=[1])
-    ap.add_argument("--solvers", nargs="+", default=list(LINEAR_SOLVERS), choices=LINEAR_SOLVERS)
+    ap.add_argument("--solvers", nargs="+", default=[*LINEAR_SOLVERS, "mumps+ooc"], choices=SOLVERS)
     ap.add_argument("--tolerances", nargs="*", default=[], metavar="SOLVER:VALUE")
     ap.add_argument("--out", type=Path, default=Path("results/bench"))
     ap.add_argument("--timeout", type=float, default=3600.0, help="per run (s)")

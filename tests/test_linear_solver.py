@@ -110,6 +110,24 @@ def test_out_of_core_on_two_ranks_gives_the_serial_answer(tmp_path_factory, monk
     assert not any(tmp.iterdir())
 
 
+def test_bench_runs_the_lu_out_of_core_as_a_solver():
+    from studies.bench_linear import _solver_numerics, _tolerance
+
+    num = _solver_numerics("mumps-blr+ooc", {"mumps-blr": 1e-7})
+    assert num == {"linear_solver": "mumps-blr", "linear_tolerance": 1e-7, "out_of_core": True}
+    assert Numerics(**num).out_of_core and _tolerance("mumps+ooc", None) is None
+    assert _solver_numerics("mumps", {})["out_of_core"] is False
+
+
+def test_bench_refuses_an_iterative_solver_out_of_core(capsys, tmp_path):
+    from studies.bench_linear import main
+
+    with pytest.raises(SystemExit) as stop:  # argparse's usage error
+        main(["--solvers", "cg-gamg+ooc", "--out", str(tmp_path)])
+    assert stop.value.code == 2 and "invalid choice: 'cg-gamg+ooc'" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())
+
+
 def test_out_of_core_needs_factors():
     with pytest.raises(ValueError, match="no factors to keep out of core"):
         LinearSolver("cg-gamg", out_of_core=True)
