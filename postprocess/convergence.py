@@ -24,8 +24,8 @@ extrapolation, and the uncertainty of every level falls back to the spread of th
   extrapolation would multiply the last change by more than five, more than three grids
   support.
 
-Where only two grids fit in memory (case 2 at level 2 would need about twice this machine's
-memory), :func:`two_grid` gives Roache's two-grid GCI with the formal order assumed
+Where only two grids are run (a third that does not fit in memory or time, ``--levels 0 1``),
+:func:`two_grid` gives Roache's two-grid GCI with the formal order assumed
 (:data:`FORMAL_ORDER`) and the factor of safety 3: an uncertainty, no extrapolated value.
 
 A run off the ladder (another degree, e.g. P2 at the coarsest level) is compared with the

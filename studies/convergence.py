@@ -12,7 +12,7 @@ spaced over one base pitch, as ``studies.run``) in a fresh child process
 and reduces them to the summary's scalars (means over the positions, stress maxima over
 them). A run is written to ``<out>/<case>/runs/<run>.json`` and reused by a later study only
 when it was solved from the same inputs, code, level, degree and positions. Two levels
-(where the third does not fit in memory, e.g. case 2 at level 2) give Roache's two-grid GCI
+(where the third does not fit in memory or time) give Roache's two-grid GCI
 (:func:`postprocess.convergence.two_grid`), no extrapolation. ``--extra`` runs
 (another degree) are compared with the h-ladder's extrapolation; each one is started only if
 ``MemAvailable`` is at least ``--min-free-gb`` (a level-0 P2 run of a case-1 branch peaks at
