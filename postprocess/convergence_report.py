@@ -37,6 +37,17 @@ def _labels(conv: dict) -> list[str]:
     return [r["label"] for r in conv["runs"] if "error" not in r]
 
 
+def _out_of_core(conv: dict) -> set[str]:
+    """The labels of the runs solved with their LU factors on disk (``numerics.out_of_core``:
+    the same answer, another time and memory)."""
+    return {r["label"] for r in conv["runs"] if (r.get("numerics") or {}).get("out_of_core")}
+
+
+def _memory(conv: dict, label: str, mb: float) -> str:
+    """A run's peak memory (GB), marked when its factors were on disk."""
+    return f"{mb / 1024:.1f}" + (" (factors on disk)" if label in _out_of_core(conv) else "")
+
+
 def _runs_table(conv: dict) -> list[str]:
     lines = [
         "| run | level | degree | DOFs | grid points | total (s) | scene, meshes (s) | bodies (s)"
@@ -53,7 +64,8 @@ def _runs_table(conv: dict) -> list[str]:
             f"| {r['label']} | {r['level']} | {r['degree']} | {r['dofs']} | "
             f"{r['grid_points_total']} | {t['total']:.1f} | {t.get('scene_meshes', 0):.1f} | "
             f"{t.get('bodies', 0):.1f} | {t['factorization']:.1f} | {t['compliance']:.1f} | "
-            f"{r['peak_rss_mb'] / 1024:.1f} | {r.get('process_wall_s', float('nan')):.0f} | "
+            f"{_memory(conv, r['label'], r['peak_rss_mb'])} | "
+            f"{r.get('process_wall_s', float('nan')):.0f} | "
             f"{'yes' if r.get('reused') else 'no'} |"
         )
     for s in conv.get("skipped", []):
@@ -118,7 +130,7 @@ def _recommendation(conv: dict) -> list[str]:
             return f"{d['key']} {d['error']:.2%}{how}"
 
         lines.append(
-            f"| {v['run']} | {v['time_s']:.1f} | {v['peak_rss_mb'] / 1024:.1f} | "
+            f"| {v['run']} | {v['time_s']:.1f} | {_memory(conv, v['run'], v['peak_rss_mb'])} | "
             f"{w('moment')} | {w('stress')} | {'yes' if v['meets'] else 'no'} |"
         )
     lines += ["", f"**Recommendation:** {rec['note']}.", ""]
@@ -283,7 +295,8 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
                 continue
             for x, y, lab, bound in pts:
                 ax.loglog(x, y, marker, color=colour, mfc="none" if bound else colour)
-                ax.annotate(lab, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
+                text = lab + (" (factors on disk)" if lab in _out_of_core(conv) else "")
+                ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
             ax.plot([], [], marker, color=colour, label=f"worst {kind}")
             ax.axhline(
                 targets[kind],

@@ -100,12 +100,13 @@ def test_recommendation_is_the_cheapest_run_meeting_the_targets():
 
 def test_report_and_chart(tmp_path):
     table = scalar_table(ROWS)
+    rows = [dict(r, numerics={"out_of_core": r["level"] == 2}) for r in ROWS]
     conv = {
         "case": "1-GB",
         "match": {"gearset": "case1", "scene": "one_branch"},
         "positions_note": "One position.",
         "ladder_degree": 1,
-        "runs": ROWS,
+        "runs": rows,
         "skipped": [{"label": "L1P2", "level": 1, "degree": 2, "why": "memory"}],
         "scalars": table,
         "recommendation": recommend(ROWS, table),
@@ -114,6 +115,8 @@ def test_report_and_chart(tmp_path):
     text = write_report(conv, tmp_path).read_text()
     assert "**Recommendation:** L2P1" in text and "skipped: memory" in text
     assert "oscillatory" in text and "speed_error.png" in text
+    # the run solved out of core says so beside its memory (runs table, level table)
+    assert text.count("9.9 (factors on disk)") == 2 and "4.5 (factors" not in text
 
 
 def test_summary_finds_the_study_of_its_gear_set(tmp_path):
