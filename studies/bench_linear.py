@@ -28,6 +28,7 @@ from pathlib import Path
 
 from cases.study_case import LINEAR_SOLVERS, Numerics, load_study_case
 from meshing import sizing
+from postprocess.convergence import scalar_kind
 from solvers.elastic_body import DEFAULT_TOLERANCE
 from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, write_json
@@ -37,9 +38,12 @@ from studies.position_runs import print_row, run_child, solve_run
 SOLVERS = (*LINEAR_SOLVERS, "mumps+ooc", "mumps-blr+ooc")
 OOC = "+ooc"
 
-#: the scalars whose change is reported (moments first; the rest of the row is in the JSON)
-MOMENTS = ("My_pin", "Mx_pin", "M_LOA_sun", "M_LOA_ring")
 NOISE = 1e-6
+
+
+def _moments(scalars: dict) -> list[str]:
+    """The moment keys of a run's scalars (any gear set kind: My_pin, My_SP, M_LOA_...)."""
+    return [k for k in scalars if scalar_kind(k) == "moment"]
 
 
 def _solver_numerics(solver: str, tolerances: dict[str, float]) -> dict:
@@ -58,7 +62,7 @@ def _changes(row: dict, ref: dict) -> dict[str, float]:
     Scalars that are zero by construction (the pinion's spin moment Mz_pin: spin free) sit at
     round-off, below NOISE x the largest moment, and are left out."""
     num = {k: v for k, v in ref["scalars"].items() if isinstance(v, (int, float))}
-    floor = NOISE * max(abs(num.get(k, 0.0)) for k in MOMENTS)
+    floor = NOISE * max((abs(num[k]) for k in _moments(num)), default=0.0)
     out = {}
     for k, v in num.items():
         w = row["scalars"].get(k)
@@ -73,9 +77,9 @@ def _md(case: str, rows: list[dict]) -> str:
         "",
         "Each run is one child process (its own peak memory). Change: relative to the exact "
         "MUMPS LU of the same level in this run; max |change| over every moment "
-        f"({', '.join(MOMENTS)}) and over every reported scalar (stresses included; "
-        "Mz_pin, zero by construction, left out). Tolerance: the BLR dropping threshold "
-        "(MUMPS CNTL(7)) or the CG relative residual. `+ooc`: the factors on disk "
+        "(pinion and LOA moments) and over every reported scalar (stresses included; "
+        "the spin moments Mz, zero by construction, left out). Tolerance: the BLR dropping "
+        "threshold (MUMPS CNTL(7)) or the CG relative residual. `+ooc`: the factors on disk "
         "(MUMPS ICNTL(22)).",
         "",
         "| level | solver | tolerance | DOFs | factorization (s) | compliance (s) "
@@ -89,12 +93,12 @@ def _md(case: str, rows: list[dict]) -> str:
             continue
         t = r["time_s"]
         ch = r.get("change") or {}
-        mom = [abs(ch[k]) for k in MOMENTS if k in ch]
+        mom = [abs(ch[k]) for k in _moments(ch)]
         allc = [abs(v) for v in ch.values()]
         lines.append(
             f"{head} {r['dofs']} | {t['factorization']:.1f} | {t['compliance']:.1f} | "
             f"{t['total']:.1f} | {r['peak_rss_mb'] / 1024:.2f} | "
-            + (f"{max(mom):.1e} | {max(allc):.1e} |" if ch else "(reference) | |")
+            + (f"{max(mom, default=0.0):.1e} | {max(allc):.1e} |" if ch else "(reference) | |")
         )
     return "\n".join(lines) + "\n"
 

@@ -197,6 +197,27 @@ def test_bench_reports_changes_above_the_noise_floor():
     assert "label" not in ch
 
 
+def test_bench_reports_a_double_pinion_case():
+    """The moments of a double-pinion case (My_SP, M_LOA_RP_ring, ...) are found by kind, not
+    by a single-pinion name list (the 2B-GA bench once stopped on an empty list)."""
+    from studies.bench_linear import _changes, _md
+
+    ref = {"scalars": {"My_SP": 92.0, "Mx_RP": 96.0, "M_LOA_RP_ring": -162.0, "Mz_SP": 1e-13,
+                       "bending_stress.ring": 520.0}}  # fmt: skip
+    row = {"scalars": {**ref["scalars"], "Mx_RP": 96.96, "bending_stress.ring": 520.52}}
+    ch = _changes(row, ref)
+    assert ch["Mx_RP"] == pytest.approx(0.01) and "Mz_SP" not in ch
+    t = {"factorization": 1.0, "compliance": 1.0, "total": 2.0}
+    runs = [
+        {"level": 1, "solver": "mumps", "tolerance": None, "dofs": 9, "time_s": t,
+         "peak_rss_mb": 1024.0},
+        {"level": 1, "solver": "mumps+ooc", "tolerance": None, "dofs": 9, "time_s": t,
+         "peak_rss_mb": 512.0, "change": ch},
+    ]  # fmt: skip
+    text = _md("2B-GA", runs)
+    assert "| 1 | mumps+ooc | - | 9 | 1.0 | 1.0 | 2.0 | 0.50 | 1.0e-02 | 1.0e-02 |" in text
+
+
 @pytest.mark.parametrize(
     "argv, words",
     [
