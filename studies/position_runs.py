@@ -15,9 +15,12 @@ back; a child that fails (out of memory, timeout, error) gives a row with its ``
 from __future__ import annotations
 
 import json
+import os
 import resource
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -158,13 +161,24 @@ def solve_run(
 def run_child(module: str, args: list[str], level: int, degree: int, timeout: float) -> dict:
     """``python -m <module> <args>`` in a child process; its row (the last ``@@row`` line of
     its stdout) with ``process_wall_s`` (including interpreter and library start-up), or a
-    row with ``error`` (exit code, signal, the tail of stderr)."""
+    row with ``error`` (exit code, signal, the tail of stderr). The child's out-of-core
+    factor files (``numerics.out_of_core``) go to a folder of its own under
+    ``$PLANETARY_OOC_DIR`` (or the temporary folder), removed when it ends, however it ends:
+    a child killed out of memory or by the timeout leaves no factor files behind (tens of GB
+    at level 2)."""
     cmd = [sys.executable, "-m", module, *args]
+    root = os.environ.get("PLANETARY_OOC_DIR") or None
+    if root is not None:
+        os.makedirs(root, exist_ok=True)
+    ooc = tempfile.mkdtemp(prefix="ooc-run-", dir=root)
+    env = {**os.environ, "PLANETARY_OOC_DIR": ooc}
     t0 = time.perf_counter()
     try:
-        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
     except subprocess.TimeoutExpired:
         return {"level": level, "degree": degree, "error": f"timeout after {timeout:.0f} s"}
+    finally:
+        shutil.rmtree(ooc, ignore_errors=True)
     wall = time.perf_counter() - t0
     rows = [ln[len(ROW_MARK) :] for ln in res.stdout.splitlines() if ln.startswith(ROW_MARK)]
     if res.returncode != 0 or not rows:

@@ -235,6 +235,24 @@ def test_failed_child_is_a_row_with_its_error():
     assert any("no-such-case" in line for line in row["stderr_tail"])
 
 
+def test_a_killed_child_leaves_no_factor_files(tmp_path, monkeypatch):
+    """A child's out-of-core folder is its own and is removed when the child ends, also when
+    the timeout kills it (its factor files would otherwise stay: tens of GB at level 2)."""
+    from studies.position_runs import run_child
+
+    (tmp_path / "oocwriter.py").write_text(
+        "import os, pathlib, time\n"
+        "pathlib.Path(os.environ['PLANETARY_OOC_DIR'], 'factor').write_bytes(b'0' * 1000)\n"
+        "time.sleep(60)\n"
+    )
+    root = tmp_path / "ooc"
+    monkeypatch.setenv("PYTHONPATH", str(tmp_path))
+    monkeypatch.setenv("PLANETARY_OOC_DIR", str(root))
+    row = run_child("oocwriter", [], 2, 1, timeout=5.0)
+    assert row["error"] == "timeout after 5 s"
+    assert root.is_dir() and not any(root.iterdir())
+
+
 def test_two_levels_give_the_two_grid_gci():
     """A ladder of two levels (the third did not fit): every scalar gets Roache's two-grid
     GCI at both levels with the formal order of its kind (stress 1, moment 2), no
