@@ -235,6 +235,30 @@ def test_failed_child_is_a_row_with_its_error():
     assert any("no-such-case" in line for line in row["stderr_tail"])
 
 
+def test_only_an_in_core_extra_run_waits_for_free_memory(tmp_path, monkeypatch):
+    """An extra run (P2) is skipped when less memory is free than ``--min-free-gb``, unless it
+    is solved out of core (a few GB whatever the level: 2B-GA's level-0 P2 peaked at 4.5)."""
+    from studies import convergence
+    from studies.provenance import code_hash
+
+    case = load_study_case("1-GB")
+    calls = []
+
+    def child(module, args, level, degree, timeout):
+        calls.append(args)
+        return dict(ROWS[3])
+
+    monkeypatch.setattr(convergence, "run_child", child)
+    argv = ["1-GB", "--levels", "0", "1", "2", "--extra", "0:2", "--out", str(tmp_path),
+            "--min-free-gb", "1e9"]  # fmt: skip
+    _stored_runs(tmp_path / case.name, case, code_hash())
+    assert convergence.main(argv) == 0
+    assert calls == [] and read_json(tmp_path / case.name / STUDY_FILE)["skipped"]
+    assert convergence.main([*argv, "--out-of-core", "0:2"]) == 0
+    assert len(calls) == 1 and "--out-of-core-run" in calls[0]
+    assert read_json(tmp_path / case.name / STUDY_FILE)["skipped"] == []
+
+
 def test_a_killed_child_leaves_no_factor_files(tmp_path, monkeypatch):
     """A child's out-of-core folder is its own and is removed when the child ends, also when
     the timeout kills it (its factor files would otherwise stay: tens of GB at level 2)."""
