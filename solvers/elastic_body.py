@@ -151,6 +151,19 @@ class Traction:
     value: Callable[[ufl.SpatialCoordinate], ufl.core.expr.Expr]
 
 
+#: where out-of-core factor files go (a folder, made if needed); unset: the temporary folder
+OOC_DIR_ENV = "PLANETARY_OOC_DIR"
+
+
+def ooc_folder(prefix: str) -> str:
+    """A fresh folder for out-of-core factor files under ``$PLANETARY_OOC_DIR`` (made if
+    needed), else the system's temporary folder; the caller removes it."""
+    root = os.environ.get(OOC_DIR_ENV) or None
+    if root is not None:
+        os.makedirs(root, exist_ok=True)
+    return tempfile.mkdtemp(prefix=prefix, dir=root)
+
+
 def mpi_sum(comm: MPI.Comm, a: np.ndarray | float) -> np.ndarray:
     """Sum an array over the ranks of ``comm`` (every rank must call it)."""
     a = np.asarray(a, dtype=float)
@@ -539,10 +552,7 @@ class ElasticBody:
         """This rank's folder for the body's out-of-core factors (removed by :meth:`release`,
         or when the body is collected)."""
         if self._ooc_dir is None:
-            root = os.environ.get("PLANETARY_OOC_DIR") or None
-            if root is not None:
-                os.makedirs(root, exist_ok=True)
-            self._ooc_dir = tempfile.mkdtemp(prefix=f"ooc-{self.prefix}", dir=root)
+            self._ooc_dir = ooc_folder(f"ooc-{self.prefix}")
             weakref.finalize(self, shutil.rmtree, self._ooc_dir, True)
         return self._ooc_dir
 

@@ -20,7 +20,6 @@ import resource
 import shutil
 import subprocess
 import sys
-import tempfile
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -33,6 +32,7 @@ from meshing.submodel import submodel_level
 from postprocess.convergence import summary_scalars
 from postprocess.summary import cycle_bending, summarise
 from solvers.body_store import BodyStore
+from solvers.elastic_body import OOC_DIR_ENV, ooc_folder
 from studies.position import solve_position
 from studies.run import roll_angles
 
@@ -167,11 +167,8 @@ def run_child(module: str, args: list[str], level: int, degree: int, timeout: fl
     a child killed out of memory or by the timeout leaves no factor files behind (tens of GB
     at level 2)."""
     cmd = [sys.executable, "-m", module, *args]
-    root = os.environ.get("PLANETARY_OOC_DIR") or None
-    if root is not None:
-        os.makedirs(root, exist_ok=True)
-    ooc = tempfile.mkdtemp(prefix="ooc-run-", dir=root)
-    env = {**os.environ, "PLANETARY_OOC_DIR": ooc}
+    ooc = ooc_folder("ooc-run-")
+    env = {**os.environ, OOC_DIR_ENV: ooc}
     t0 = time.perf_counter()
     try:
         res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
