@@ -26,9 +26,8 @@ submodel into the driver's and the submodel's
 and 2B-GA (the case level's run reads a level-3 sector per loaded fillet: about 15 and
 19 min more).
 ``--out-of-core L L:D ...``: these runs (a ladder level, or level:degree) keep their LU
-factors on disk
-(``numerics.out_of_core``: the same answer, the memory of about one frontal matrix, slower
-solves; case 2's level 2, whose four bodies' factors do not fit beside each other in 23 GB).
+factors on disk (``numerics.out_of_core``: the same answer, less memory, slower solves;
+2B-GA's level 2: 23 GB of factors, a 5.7 GB peak).
 ``--reduce-only`` solves nothing: it reduces the stored runs of the same inputs again, from
 whatever code solved them (after a change to the reduction alone: targets, extrapolation,
 report), and the report names the code the runs came from.

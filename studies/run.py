@@ -493,11 +493,11 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
     status = EXIT_OK
     try:
         # a failed case does not stop the others; every other case solves its positions last
-        # first, so it starts where the case before ended: the store holds only the last
-        # position's objects, and a cycle's positions need two sets of root-stress sectors
-        # (tooth runs of 6 and 5 teeth, 7 and 6 on the ring side), so a case that started
-        # again at position 1 would set up both sets afresh (measured: 1-GB's position 1
-        # 268 s against 69 s for position 2, after 1-GA)
+        # first, so it starts with the root-stress sectors the case before left: the store
+        # holds only the last position's objects, and a sector is keyed by its run of loaded
+        # teeth, which changes from position to position (2B-GA's ring side 6, 7, 6, 6, 6).
+        # Measured: 2B-GB's first position 83 s after 2B-GA's last, 200 s when it started at
+        # position 1; the sets a case changes between its own positions are still rebuilt
         for i, name in enumerate(args.cases):
             status = max(status, run_case(name, args, comm, progress, ranks, store, i % 2 == 1))
             if status == EXIT_INTERRUPTED:
