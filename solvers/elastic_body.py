@@ -164,6 +164,15 @@ def ooc_folder(prefix: str) -> str:
     return tempfile.mkdtemp(prefix=prefix, dir=root)
 
 
+def _drop_ooc(ksp: PETSc.KSP, folder: str) -> None:
+    """Destroy a body's solver, then remove its out-of-core folder: MUMPS closes and deletes
+    its factor files when it is destroyed, and reports an error (INFOG(1) = -90) if the
+    folder went first (as it did when a body was collected or the interpreter exited).
+    Collective, like the destruction of any PETSc object."""
+    ksp.destroy()
+    shutil.rmtree(folder, ignore_errors=True)
+
+
 def mpi_sum(comm: MPI.Comm, a: np.ndarray | float) -> np.ndarray:
     """Sum an array over the ranks of ``comm`` (every rank must call it)."""
     a = np.asarray(a, dtype=float)
@@ -252,6 +261,7 @@ class ElasticBody:
         self._held: set[tuple[str, int]] = set()
         self._ready = False
         self._ooc_dir: str | None = None
+        self._ooc_drop: weakref.finalize | None = None
         self.timings: dict[str, float] = {}
 
     # ------------------------------------------------------------------ placement
@@ -291,9 +301,12 @@ class ElasticBody:
             if obj is not None:
                 obj.destroy()
                 setattr(self, name, None)
-        if self._ooc_dir is not None:
+        if self._ooc_drop is not None:
+            self._ooc_drop()
+            self._ooc_drop = None
+        elif self._ooc_dir is not None:
             shutil.rmtree(self._ooc_dir, ignore_errors=True)
-            self._ooc_dir = None
+        self._ooc_dir = None
         self._ready = False
 
     @property
@@ -550,10 +563,25 @@ class ElasticBody:
 
     def _ooc_folder(self) -> str:
         """This rank's folder for the body's out-of-core factors (removed by :meth:`release`,
-        or when the body is collected)."""
+        or when the body is collected or the interpreter exits: :func:`_drop_ooc`).
+        Collective: a folder one rank cannot make fails every rank (the others would
+        otherwise wait in the factorization)."""
         if self._ooc_dir is None:
-            self._ooc_dir = ooc_folder(f"ooc-{self.prefix}")
-            weakref.finalize(self, shutil.rmtree, self._ooc_dir, True)
+            folder, error = None, None
+            try:
+                folder = ooc_folder(f"ooc-{self.prefix}")
+            except OSError as exc:
+                error = str(exc)
+            bad = [(r, e) for r, e in enumerate(self.comm.allgather(error)) if e is not None]
+            if bad:
+                if folder is not None:
+                    shutil.rmtree(folder, ignore_errors=True)
+                rank, why = bad[0]
+                raise FactorizationError(
+                    f"body '{self.name}': no folder for its out-of-core factors (rank {rank}: "
+                    f"{why}); set {OOC_DIR_ENV} to a writable folder"
+                )
+            self._ooc_dir = folder
         return self._ooc_dir
 
     def _near_null_space(self) -> None:
@@ -585,6 +613,10 @@ class ElasticBody:
             self._near_null_space()
         opts = PETSc.Options()
         defaults = self._solver_options()
+        if self._ooc_dir is not None and self._ooc_drop is None:
+            # the factors go before their folder, however the body ends (a failed factorization
+            # too)
+            self._ooc_drop = weakref.finalize(self, _drop_ooc, ksp, self._ooc_dir)
         defaults.update(self.petsc_options)
         for k, v in defaults.items():
             opts[self.prefix + k] = v

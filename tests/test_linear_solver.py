@@ -100,6 +100,23 @@ def test_out_of_core_factors_give_the_in_core_answer_and_are_removed(exact, tmp_
     assert not any(tmp_path.iterdir())  # release() removed every body's folder
 
 
+def test_an_out_of_core_body_never_released_closes_its_factors_cleanly(tmp_path, monkeypatch):
+    """A body collected without release() (or still held at exit) destroys its MUMPS solver
+    before its folder goes: removing the folder first made MUMPS report INFOG(1) = -90 from
+    the solver's destructor at every exit of a study run out of core."""
+    import gc
+    import sys
+
+    monkeypatch.setenv("PLANETARY_OOC_DIR", str(tmp_path))
+    problem, _, _ = _solve("mumps", out_of_core=True)
+    assert any(tmp_path.iterdir())
+    unraisable = []
+    monkeypatch.setattr(sys, "unraisablehook", unraisable.append)
+    del problem
+    gc.collect()
+    assert unraisable == [] and not any(tmp_path.iterdir())
+
+
 @pytest.mark.mpi
 def test_out_of_core_on_two_ranks_gives_the_serial_answer(tmp_path_factory, monkeypatch):
     comm = MPI.COMM_WORLD
@@ -126,6 +143,25 @@ def test_bench_refuses_an_iterative_solver_out_of_core(capsys, tmp_path):
         main(["--solvers", "cg-gamg+ooc", "--out", str(tmp_path)])
     assert stop.value.code == 2 and "invalid choice: 'cg-gamg+ooc'" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.mpi
+def test_an_out_of_core_folder_one_rank_cannot_make_fails_every_rank(tmp_path_factory,
+                                                                     monkeypatch):  # fmt: skip
+    """Rank 1 alone is given a folder under a file: every rank raises the same error instead
+    of rank 0 waiting in the factorization for a rank that stopped."""
+    comm = MPI.COMM_WORLD
+    if comm.size < 2:
+        pytest.skip("needs a second rank to fail alone")
+    tmp = tmp_path_factory.mktemp(f"bad{comm.rank}")
+    if comm.rank == 1:
+        (tmp / "file").write_text("not a folder")
+        monkeypatch.setenv("PLANETARY_OOC_DIR", str(tmp / "file" / "ooc"))
+    else:
+        monkeypatch.setenv("PLANETARY_OOC_DIR", str(tmp))
+    with pytest.raises(FactorizationError, match="no folder for its out-of-core factors"):
+        _solve("mumps", comm, out_of_core=True)
+    assert not any(p.is_dir() for p in tmp.iterdir())  # rank 0's folder removed again
 
 
 def test_out_of_core_needs_factors():
