@@ -184,7 +184,6 @@ def run_study(
     store: BodyStore | None = None,
     scene: str | None = None,
     root_fillets: str | None = None,
-    descending: bool = False,
 ) -> dict:
     """Solve every position (reusing finished ones), then write summary.json and the pictures.
     Returns the summary (on every rank). Raises :class:`~studies.cli.StudyFailed` after
@@ -196,10 +195,7 @@ def run_study(
     ``store``: the bodies kept across positions and cases (factorized once; default: kept
     for this study's positions); ``scene``: solve in this scene instead of the case's
     ``model.scene`` (recorded in the summary's inputs); ``root_fillets``: instead of the
-    case's ``numerics.root_fillets`` (recorded the same way); ``descending``: solve the
-    positions last first (the results do not depend on the order; a case that starts at the
-    position the previous case ended at reuses the root-stress sectors ``store`` still
-    holds, :func:`main`)."""
+    case's ``numerics.root_fillets`` (recorded the same way)."""
     progress = Progress(comm) if progress is None else progress
     study = load_study_case(name_or_path)
     if scene is not None:
@@ -223,15 +219,13 @@ def run_study(
     own = ranks is None
     ranks = Ranks(comm) if own else ranks
     try:
-        return _run(study, Path(out_root), out, level, n_pos, comm, progress, ranks, store,
-                    descending)  # fmt: skip
+        return _run(study, Path(out_root), out, level, n_pos, comm, progress, ranks, store)
     finally:
         if own:
             ranks.free()
 
 
-def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progress, ranks, store,
-         descending: bool = False):  # fmt: skip
+def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progress, ranks, store):
     degree = study.numerics.degree
     pos_dir = out / "positions"
     on_root(comm, lambda: _make_folders(out_root, out), f"creating {pos_dir}")
@@ -261,8 +255,7 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
     clock = LoopClock(n_pos, len(to_solve))
     fields = out / "fields"
     solved, failed = [], []
-    for k in range(n_pos)[::-1] if descending else range(n_pos):
-        roll = rolls[k]
+    for k, roll in enumerate(rolls):
         tag = f"{study.name} position {k + 1}/{n_pos}"
         pos = old[k]
         if pos is not None:
@@ -311,8 +304,6 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
         )
         if write_fields is not None:
             _write_fields(write_fields, fields, study, comm, ranks, progress)
-    solved.sort(key=lambda p: p["roll"])  # in position order, whatever order they were solved in
-    failed.sort(key=lambda f: f["position"])
     if not solved:
         raise StudyFailed(
             f"{study.name}: {n_pos} of {n_pos} positions failed ({_distinct(failed)}); "
@@ -492,14 +483,8 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
     store = BodyStore(reuse=not args.no_reuse)  # bodies factorized once for all cases
     status = EXIT_OK
     try:
-        # a failed case does not stop the others; every other case solves its positions last
-        # first, so it starts with the root-stress sectors the case before left: the store
-        # holds only the last position's objects, and a sector is keyed by its run of loaded
-        # teeth, which changes from position to position (2B-GA's ring side 6, 7, 6, 6, 6).
-        # Measured: 2B-GB's first position 83 s after 2B-GA's last, 200 s when it started at
-        # position 1; the sets a case changes between its own positions are still rebuilt
-        for i, name in enumerate(args.cases):
-            status = max(status, run_case(name, args, comm, progress, ranks, store, i % 2 == 1))
+        for name in args.cases:  # a failed case does not stop the others
+            status = max(status, run_case(name, args, comm, progress, ranks, store))
             if status == EXIT_INTERRUPTED:
                 break
     finally:
@@ -508,13 +493,13 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
 
 
 def run_case(name: str, args: argparse.Namespace, comm, progress: Progress, ranks: Ranks,
-             store: BodyStore | None = None, descending: bool = False) -> int:  # fmt: skip
+             store: BodyStore | None = None) -> int:  # fmt: skip
     """One case of the command line: its exit code, with its error printed on one line
     (every rank agrees on the outcome first, so none goes on alone)."""
     failure = None
     try:
         run_study(name, args.out, args.level, args.positions, comm, progress, ranks, store,
-                  args.scene, args.root_fillets, descending)  # fmt: skip
+                  args.scene, args.root_fillets)  # fmt: skip
     except KeyboardInterrupt:
         progress.error(f"{name}: interrupted; finished positions are kept")
         return EXIT_INTERRUPTED

@@ -135,29 +135,6 @@ def test_changed_inputs_are_solved_again(study, monkeypatch, tmp_path):
     assert [c[0] for c in calls] == [8.80e7, 8.80e7]
 
 
-def test_descending_order_solves_the_last_position_first(study, monkeypatch, tmp_path):
-    """``descending`` (every other case of a command line, so that a case starts at the
-    position the previous one ended at) changes the order of the solves, not the summary:
-    its positions stay in position order. The solver is stubbed with the module study's
-    finished positions."""
-    out, summary = study
-    done = [json.loads((out / "1-GA" / "positions" / f"{k}.json").read_text()) for k in (0, 1)]
-    for pos in done:
-        del pos["reuse_key"]
-    calls = []
-
-    def stub(study, roll, comm, *, keep_fields=False, **kwargs):
-        calls.append(roll)
-        pos = dict(next(p for p in done if p["roll"] == roll))
-        return (pos, lambda folder: folder.mkdir(parents=True)) if keep_fields else pos
-
-    monkeypatch.setattr(study_run, "solve_position", stub)
-    again = study_run.run_study("1-GA", tmp_path, level=0, positions=N_POS, descending=True)
-    assert calls == [done[1]["roll"], done[0]["roll"]]
-    assert [p["roll"] for p in again["positions"]] == [p["roll"] for p in summary["positions"]]
-    assert again["My_pin"] == summary["My_pin"] and again["ZS"] == summary["ZS"]
-
-
 def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     out, _ = study
     (tmp_path / "1-GA").mkdir()
