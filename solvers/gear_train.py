@@ -273,6 +273,22 @@ def branch_pin_errors(errors, pinions: int, branches: int) -> list[tuple[float, 
     return [tuple(e) if j == 0 else (0.0, 0.0) for e in errors for j in range(per)]
 
 
+def contact_grids(scene, study, spacing: float, width=None, micro=None, e_plane=None,
+                  coast: bool = True):  # fmt: skip
+    """The contact grids and pairs of ``scene`` with the study's contact numerics and flank
+    modifications (:func:`solvers.flank_grid.flank_contact_pairs`); ``e_plane`` by body name,
+    default the gears' plane-strain modulus (:func:`gear_bodies`'s material)."""
+    if e_plane is None:
+        e = Material(study.material.gear_youngs_modulus, study.material.poisson_ratio).e_plane
+        e_plane = {g.name: e for g in scene.gears}
+    num = study.numerics
+    return flank_contact_pairs(
+        scene, spacing, width, micro, modifications=getattr(study.gearset, "modifications", None),
+        coast=coast, contact_model=num.contact_model,
+        gap_limit=num.zone_gap_limit_um * 1e-3, e_plane=e_plane,
+    )  # fmt: skip
+
+
 def build_gear_train(
     scene,
     meshes: dict,
@@ -301,13 +317,8 @@ def build_gear_train(
     t0 = time.perf_counter()
     store = BodyStore() if store is None else store
     bodies = gear_bodies(scene, meshes, study, degree, store)
-    mods = getattr(study.gearset, "modifications", None)
-    num = study.numerics
-    every, pairs = flank_contact_pairs(
-        scene, spacing, width, micro, modifications=mods,
-        contact_model=num.contact_model, gap_limit=num.zone_gap_limit_um * 1e-3,
-        e_plane={b.name: b.material.e_plane for b in bodies},
-    )  # fmt: skip
+    every, pairs = contact_grids(scene, study, spacing, width, micro,
+                                 {b.name: b.material.e_plane for b in bodies})  # fmt: skip
     grids = {k: v for k, v in every.items() if not is_coast(k)}
     coast_grids = {mesh_name(k): v for k, v in every.items() if is_coast(k)}
     torque = sun_torque(study.gearset, scene.branches)

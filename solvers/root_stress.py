@@ -131,13 +131,19 @@ def set_keys(scene) -> dict[str, str]:
     return out
 
 
-def loaded_teeth(model) -> dict[str, list[int]]:
-    """Teeth named in the contact-grid lines, per output key (see :func:`loaded_fillets`)."""
+def grid_teeth(scene, grids) -> dict[str, list[int]]:
+    """Teeth named in the lines of the drive grids ``grids`` (grid name -> (grid,
+    :class:`solvers.flank_grid.FlankGridInfo`)) of ``scene``, per output key (see
+    :func:`loaded_fillets`)."""
     out = {}
-    for key, _, grid, which in loaded_fillets(model.scene):
-        lines = model.grids[grid][1].lines
-        out[key] = sorted({int(ln[which]) for ln in lines})
+    for key, _, grid, which in loaded_fillets(scene):
+        out[key] = sorted({int(ln[which]) for ln in grids[grid][1].lines})
     return out
+
+
+def loaded_teeth(model) -> dict[str, list[int]]:
+    """Teeth named in the contact-grid lines of a gear train, per output key."""
+    return grid_teeth(model.scene, model.grids)
 
 
 def max_principal(sig: np.ndarray) -> np.ndarray:

@@ -57,8 +57,15 @@ from meshing.submodel import (
 from solvers.body_store import BodyStore
 from solvers.elastic_body import Material, mpi_sum
 from solvers.gap_operator import locate
+from solvers.gear_train import contact_grids
 from solvers.rigid_coupling import rigid_modes
-from solvers.root_stress import body_root_stress, collect, loaded_fillets, loaded_teeth
+from solvers.root_stress import (
+    body_root_stress,
+    collect,
+    grid_teeth,
+    loaded_fillets,
+    loaded_teeth,
+)
 
 #: solvers of the submodel: "cg-gamg" (CG + smoothed-aggregation AMG, no factor in memory;
 #: the default) or "mumps" (exact LU, the reference it is tested against)
@@ -269,8 +276,17 @@ def tooth_run(key: str, teeth, z: int) -> tuple[int, int]:
     return starts[0], len(ts)
 
 
+def sector_teeth(scene, study, spacing: float, width=None, micro=None) -> dict[str, int]:
+    """Per output key how many teeth the drive grid of its mesh names in ``scene`` (the teeth
+    :func:`submodel_root_stress` reads there), from the grids :func:`build_gear_train
+    <solvers.gear_train.build_gear_train>` lays with the same settings, without the FE."""
+    grids, _ = contact_grids(scene, study, spacing, width, micro, coast=False)
+    return {key: len(ts) for key, ts in grid_teeth(scene, grids).items()}
+
+
 def submodel_root_stress(model, result, level, store: BodyStore | None = None,
-                         degree: int = SUBMODEL_DEGREE) -> dict:  # fmt: skip
+                         degree: int = SUBMODEL_DEGREE,
+                         sector: dict[str, int] | None = None) -> dict:  # fmt: skip
     """The root stress of a solved gear train read on submodels of its loaded teeth
     (module docstring), in the layout of :func:`solvers.root_stress.root_stress`; every
     key's ``locations`` also hold ``submodel``: its DOFs, read-fillet size, degree, sector
@@ -278,7 +294,11 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
     ``set_up_here``: in this call, not reused) and solve time (s). ``level``: the global
     model's level (the submodel's sizes:
     :func:`meshing.submodel.submodel_level`); ``store``: where the factorized submodels are
-    kept across positions and cases (:class:`solvers.body_store.BodyStore`). Collective."""
+    kept across positions and cases (:class:`solvers.body_store.BodyStore`); ``sector``: per
+    key the read teeth of its sector (at least the loaded teeth: the most of the mesh cycle,
+    :func:`sector_teeth`, so one sector serves every position; default, or where that sector
+    would exceed half the gear, the loaded teeth), the extra ones beyond the last loaded
+    tooth and not read. Collective."""
     store = BodyStore() if store is None else store
     p, scene = model.problem, model.scene
     teeth = loaded_teeth(model)
@@ -291,6 +311,9 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         gear = scene.gear(body).gear
         z = gear.teeth
         first, n = tooth_run(key, teeth[key], z)
+        most = (sector or {}).get(key, 0)
+        if n < most and most + 2 * SUBMODEL_MARGIN <= z // 2:  # else: the loaded teeth
+            n = most
         try:
             sb = submodel_body(scene.gear(body).body, n, side)
         except ValueError as exc:
@@ -341,6 +364,7 @@ __all__ = [
     "cut_names",
     "field_at",
     "sector_loads",
+    "sector_teeth",
     "sector_turn",
     "submodel_root_stress",
     "tooth_run",

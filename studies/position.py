@@ -13,6 +13,7 @@ train carries (:mod:`postprocess.train_results`), the paper's quantities of each
 
 from __future__ import annotations
 
+import math
 import resource
 import time
 from collections.abc import Callable
@@ -22,7 +23,7 @@ import numpy as np
 
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
-from meshing.scenes import build_scene, reads_root_stress
+from meshing.scenes import CYCLE_SAMPLES, build_scene, reads_root_stress
 from meshing.submodel import submodel_level
 from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
@@ -30,7 +31,9 @@ from solvers.body_store import BodyStore
 from solvers.gear_train import build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
-from solvers.root_submodel import submodel_root_stress
+from solvers.root_submodel import sector_teeth, submodel_root_stress
+
+_SECTOR_MEMO: dict[str, dict[str, int]] = {}  # see cycle_sector_teeth
 
 
 def study_scene(study, roll: float, **options):
@@ -40,6 +43,35 @@ def study_scene(study, roll: float, **options):
     fillets = {"auto": None, "refined": True, "coarse": False}[study.numerics.root_fillets]
     return build_scene(study.model.scene, study.gearset, roll,
                        **{"fine_fillets": fillets, **options})  # fmt: skip
+
+
+def cycle_sector_teeth(study, roll: float, spacing: float, width=None,
+                       scene_options: dict | None = None) -> dict[str, int]:  # fmt: skip
+    """Per root-stress key the most teeth its drive grid names at any of the
+    :data:`meshing.scenes.CYCLE_SAMPLES` sun angles of the mesh cycle that holds ``roll``
+    (:func:`solvers.root_submodel.sector_teeth`; memoized per gear set, scene, contact
+    numerics, grid and cycle): the size of the root-stress sectors at every position of the
+    cycle, so one sector per gear and side serves every position and every case of the gear
+    set. Sized per position, a sector was set up again whenever its count changed (2B-GA's
+    ring side names 4, 5, 4, 4, 4 teeth over its five positions) and the store, which keeps
+    what the previous position used, had dropped the other size."""
+    options = dict(scene_options or {})
+    pitch = 2.0 * math.pi / study.gearset.gears[study.gearset.power_path[0]].teeth
+    cycle = math.floor(roll / pitch + 1e-9)
+    num = study.numerics
+    key = repr((study.gearset, study.material, study.model.scene, num.contact_model,
+                num.zone_gap_limit_um, num.root_fillets, spacing, width, cycle,
+                sorted(options.items())))  # fmt: skip
+    if key not in _SECTOR_MEMO:
+        most: dict[str, int] = {}
+        for j in range(CYCLE_SAMPLES):
+            scene = study_scene(study, (cycle + j / CYCLE_SAMPLES) * pitch, **options)
+            for k, n in sector_teeth(scene, study, spacing, width).items():
+                most[k] = max(most.get(k, 0), n)
+        if len(_SECTOR_MEMO) >= 64:
+            _SECTOR_MEMO.pop(next(iter(_SECTOR_MEMO)))
+        _SECTOR_MEMO[key] = most
+    return dict(_SECTOR_MEMO[key])
 
 
 def solve_position(
@@ -106,10 +138,15 @@ def solve_position(
     # the root stress only where the scene refines the fillets it is read on; on submodels of
     # the loaded teeth (numerics.root_stress), the global model's own values kept as a check
     out["bending_stress"] = None
+    # one sector size per key over the mesh cycle (none with a micro-geometry callable,
+    # which the memo cannot key: then each position's loaded teeth)
+    sector = None
+    if reads_root_stress(scene) and num.root_stress == "submodel" and micro is None:
+        sector = cycle_sector_teeth(study, roll, spacing, width, scene_options)
     if reads_root_stress(scene):
         bs = root_stress(model, result)
         if num.root_stress == "submodel":
-            sub = submodel_root_stress(model, result, level, store)
+            sub = submodel_root_stress(model, result, level, store, sector=sector)
             sub["global"] = {k: bs[k] for k in sub["locations"]}
             bs = sub
         out["bending_stress"] = bs
@@ -121,7 +158,9 @@ def solve_position(
         if num.root_stress != "submodel":
             raise ValueError("submodel_levels needs numerics.root_stress = 'submodel'")
         out["bending_stress_fillets"] = {
-            f"{submodel_level(k).fillet:g}": submodel_root_stress(model, result, k, store)
+            f"{submodel_level(k).fillet:g}": submodel_root_stress(
+                model, result, k, store, sector=sector
+            )
             for k in submodel_levels
         }
     t_ladder = time.perf_counter() - t_post

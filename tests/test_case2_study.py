@@ -24,7 +24,7 @@ from postprocess.case2_report import collinear_check, planetary_input, write_rep
 from postprocess.paper_report import record_wall_time, write_paper_report
 from solvers.body_store import BodyStore
 from studies import run as study_run
-from studies.position import solve_position
+from studies.position import cycle_sector_teeth, solve_position
 from studies.progress import Progress
 
 GEARSETS = CASE_DIR / "gearsets"
@@ -148,6 +148,26 @@ def test_double_summary_keys(double):
     assert set(s["bending_stress"]) - {"locations"} == {
         "sun", "SP_sun_side", "SP_RP_side", "RP_SP_side", "RP_ring_side", "ring"}  # fmt: skip
     assert set(s["contact_stress_cycle"]) == {"sun_SP", "SP_RP", "RP_ring"}
+
+
+def test_one_sector_per_gear_and_side_serves_every_position(ga):
+    """The root stress of every gear and side is read at both positions on one sector of the
+    same size (the most teeth of the mesh cycle, studies.position.cycle_sector_teeth), set up
+    at the first position and reused at the second (sized per position, RP's ring side had
+    sectors of 7 and 6 teeth at level 1 and set one up again at every other position)."""
+    out, _ = ga
+    pos = [json.loads((out / "2B-GA" / "positions" / f"{k}.json").read_text()) for k in (0, 1)]
+    subs = [p["bending_stress"]["locations"] for p in pos]
+    assert set(subs[0]) == set(subs[1]) and len(subs[0]) == 6
+    # both positions name 4 loaded teeth per key at level 0; the cycle's most are 5 on the
+    # ring mesh (RP_ring_side, ring), the size both positions' sectors must have
+    most = cycle_sector_teeth(load_study_case("2B-GA"), 0.0, pos[0]["grid_spacing_mm"])
+    assert max(most.values()) > min(most.values())
+    for key, rec in subs[1].items():
+        first = subs[0][key]["submodel"]
+        assert rec["submodel"]["teeth"] == first["teeth"] == most[key] + 2, key
+        assert len(rec["teeth"]) <= rec["submodel"]["teeth"] - 2, key  # read teeth inside it
+        assert rec["submodel"]["set_up_here"] is False, key
 
 
 def test_rigid_bearing_moments_against_closed_form_at_fe_centroids(ga):

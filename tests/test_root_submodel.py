@@ -26,9 +26,11 @@ from solvers.root_submodel import (
     SubmodelError,
     cut_names,
     sector_loads,
+    sector_teeth,
     tooth_run,
 )
-from studies.position import study_scene
+from studies.position import cycle_sector_teeth, study_scene
+from studies.run import roll_angles
 
 
 @pytest.fixture(scope="module")
@@ -203,3 +205,28 @@ def test_a_point_force_beside_the_fillet_is_not_read_as_root_stress(solved, scen
     f = np.array([[10.0, 0.0, 0.0]])
     probe = np.array([[10.0, 0.29, 0.0], [10.0, 0.31, 0.0], [0.0, 0.0, 0.0]])
     assert near_loads(probe, f, 0.3).tolist() == [True, False, False]
+
+
+def test_sector_teeth_are_the_grid_teeth_of_the_model(solved, scene):
+    """The grids laid without the FE (sector_teeth) name the teeth the solved model's grids
+    name, per key (the same contact numerics, modifications and material)."""
+    model, _ = solved
+    got = sector_teeth(scene, load_study_case("1-GA"), sizing.check_level(0).fine)
+    assert got == {k: len(v) for k, v in loaded_teeth(model).items()}
+    assert set(got) == {"sun", "pinion_sun_side", "pinion_ring_side", "ring"}
+
+
+def test_cycle_sector_holds_every_position_of_the_cycle():
+    """One sector size per key over the mesh cycle: the same at every position of 1-GB's
+    cycle, at least each position's loaded teeth and at most one more than the fewest (over
+    one cycle the teeth in mesh advance by one tooth; a larger sector would only cost)."""
+    study = load_study_case("1-GB")
+    spacing = sizing.check_level(1).fine
+    rolls = roll_angles(study, 5)
+    cyc = [cycle_sector_teeth(study, r, spacing) for r in rolls]
+    assert all(c == cyc[0] for c in cyc)
+    here = [sector_teeth(study_scene(study, r), study, spacing) for r in rolls]
+    for key, n in cyc[0].items():
+        counts = [h[key] for h in here]
+        assert max(counts) <= n <= min(counts) + 1, (key, n, counts)
+    assert any(min(h[k] for h in here) < n for k, n in cyc[0].items())  # it matters here
