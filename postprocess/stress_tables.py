@@ -46,8 +46,9 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
     sub = "submodel" in (first.get("bending_stress_method") or "")
     read = [
         "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on a",
-        "P2 submodel of those teeth (`solvers/root_submodel.py`: a sector of the gear reaching a",
-        "tooth space beyond them and 2.5 modules below the root, meshed at the next finer level",
+        "P2 submodel of those teeth (`solvers/root_submodel.py`: a sector of the gear as wide",
+        "as the most teeth loaded in the mesh cycle, from the first loaded tooth, reaching a",
+        "tooth space beyond and 2.5 modules below the root, meshed at the next finer level",
         "than the global model, its loaded fillets at 0.2 / 0.15 / 0.1 mm for levels 0 / 1 / 2,",
         "driven at its cut faces by the global displacement and loaded by the solved contact",
         "forces): at each fillet vertex the mean",

@@ -20,7 +20,9 @@ global contact loads. The submodel adds nothing to the global solution (one-way)
 
 The root stress is then read on the submodel's fillets as on the global model
 (:func:`solvers.root_stress.body_root_stress`). One canonical sector per gear and loaded
-side (:func:`meshing.submodel.submodel_body`) serves every position: a position's sector is
+side (:func:`meshing.submodel.submodel_body`), as many read teeth as its mesh's grid names
+at most over the mesh cycle (``sector``; a position with fewer loaded teeth leaves the
+last ones unread), serves every position: a position's sector is
 the canonical one turned by :func:`meshing.submodel.sector_turn`, so the submodel's
 stiffness matrix (with its Dirichlet rows) is assembled once and its solver set up once (the
 AMG hierarchy of the default CG + GAMG, or the LU factors of MUMPS; :class:`SubmodelBody`),
