@@ -306,24 +306,31 @@ def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, ra
     return placed, zones, ang_r, omega
 
 
+def cycle_angles(gearset, roll: float) -> tuple[int, list[float]]:
+    """The mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun): k,
+    and its :data:`CYCLE_SAMPLES` equally spaced sun angles from its start (rad)."""
+    pitch = 2 * math.pi / gearset.gears[gearset.power_path[0]].teeth
+    cycle = math.floor(roll / pitch + 1e-9)
+    return cycle, [(cycle + j / CYCLE_SAMPLES) * pitch for j in range(CYCLE_SAMPLES)]
+
+
 def _cycle_cover(gearset, roll: float, all_planets: bool, options: dict):
     """The mesh cycle that holds ``roll`` (sun angles k p .. (k + 1) p, p = 2 pi / Z_sun):
     per body its placement at the cycle start (the reference of :func:`_unwrap`), and the
     teeth in contact and their tension fillets (:func:`tension_fillets`) anywhere in the
     cycle, the union over :data:`CYCLE_SAMPLES` equally spaced sun angles from its start
     (memoized per gear set, scene options and cycle)."""
-    pitch = 2 * math.pi / gearset.gears[gearset.power_path[0]].teeth
-    cycle = math.floor(roll / pitch + 1e-9)
+    cycle, angles = cycle_angles(gearset, roll)
     key = repr((gearset, cycle, all_planets, sorted(options.items())))
     if key not in _CYCLE_MEMO:
-        first = planetary_scene(gearset, cycle * pitch, all_planets, cycle_bodies=False,
+        first = planetary_scene(gearset, angles[0], all_planets, cycle_bodies=False,
                                 **options)  # fmt: skip
         ref = {g.name: g.placement.angle for g in first.gears}
         cover: dict[str, set[int]] = {}
         fine: dict[str, set[tuple[int, str]]] = {}
-        for j in range(CYCLE_SAMPLES):
-            sc = planetary_scene(gearset, (cycle + j / CYCLE_SAMPLES) * pitch, all_planets,
-                                 cycle_bodies=False, _angle_ref=ref, **options)  # fmt: skip
+        for angle in angles:
+            sc = planetary_scene(gearset, angle, all_planets, cycle_bodies=False,
+                                 _angle_ref=ref, **options)  # fmt: skip
             for g in sc.gears:
                 cover.setdefault(g.name, set()).update(g.contact_teeth)
             for name, fl in tension_fillets(sc.zones).items():

@@ -48,18 +48,25 @@ if len(SUBMODEL_FILLET) != len(sizing.LEVELS):  # one submodel size per global l
 SECTOR_STEP = 1
 
 
+def max_read_teeth(gear) -> int:
+    """The most read teeth a sector of ``gear`` holds: with its buffer teeth at most half the
+    gear (its cut faces then lie on either side of the gear axis)."""
+    return gear.teeth // 2 - 2 * SUBMODEL_MARGIN
+
+
 def submodel_body(gb: GearBody, n_read: int, side: str, depth: float = SUBMODEL_DEPTH) -> GearBody:
     """The canonical sector of ``gb``'s gear for ``n_read`` consecutive read teeth whose
     ``side`` (``"pos"``/``"neg"``) fillets are in tension (see the module docstring)."""
     g = gb.gear
     if side not in ("pos", "neg"):
         raise MeshingError(f"{gb.body}: submodel side = {side!r}: must be 'pos' or 'neg'")
-    n = n_read + 2 * SUBMODEL_MARGIN
-    if isinstance(n_read, bool) or not isinstance(n_read, int) or not 1 <= n <= g.teeth // 2:
+    most = max_read_teeth(g)
+    if isinstance(n_read, bool) or not isinstance(n_read, int) or not 1 <= n_read <= most:
         raise MeshingError(
-            f"{gb.body}: submodel of {n_read!r} read teeth: needs 1 to "
-            f"{g.teeth // 2 - 2 * SUBMODEL_MARGIN} (a sector holds half of z = {g.teeth})"
+            f"{gb.body}: submodel of {n_read!r} read teeth: needs 1 to {most} (a sector "
+            f"holds half of z = {g.teeth})"
         )
+    n = n_read + 2 * SUBMODEL_MARGIN
     m = g.normal_module
     fine = tuple((SUBMODEL_MARGIN + i, side) for i in range(n_read))
     if g.internal:

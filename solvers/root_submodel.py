@@ -52,6 +52,7 @@ from meshing.sizing import level_record
 from meshing.submodel import (
     SUBMODEL_DEGREE,
     SUBMODEL_MARGIN,
+    max_read_teeth,
     sector_turn,
     submodel_body,
     submodel_level,
@@ -314,7 +315,7 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         z = gear.teeth
         first, n = tooth_run(key, teeth[key], z)
         most = (sector or {}).get(key, 0)
-        if n < most and most + 2 * SUBMODEL_MARGIN <= z // 2:  # else: the loaded teeth
+        if n < most <= max_read_teeth(gear):  # else: the loaded teeth
             n = most
         try:
             sb = submodel_body(scene.gear(body).body, n, side)

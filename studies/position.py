@@ -13,7 +13,6 @@ train carries (:mod:`postprocess.train_results`), the paper's quantities of each
 
 from __future__ import annotations
 
-import math
 import resource
 import time
 from collections.abc import Callable
@@ -23,7 +22,7 @@ import numpy as np
 
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
-from meshing.scenes import CYCLE_SAMPLES, build_scene, reads_root_stress
+from meshing.scenes import build_scene, cycle_angles, reads_root_stress
 from meshing.submodel import submodel_level
 from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
@@ -56,16 +55,15 @@ def cycle_sector_teeth(study, roll: float, spacing: float, width=None,
     ring side names 4, 5, 4, 4, 4 teeth over its five positions) and the store, which keeps
     what the previous position used, had dropped the other size."""
     options = dict(scene_options or {})
-    pitch = 2.0 * math.pi / study.gearset.gears[study.gearset.power_path[0]].teeth
-    cycle = math.floor(roll / pitch + 1e-9)
+    cycle, angles = cycle_angles(study.gearset, roll)
     num = study.numerics
     key = repr((study.gearset, study.material, study.model.scene, num.contact_model,
                 num.zone_gap_limit_um, num.root_fillets, spacing, width, cycle,
                 sorted(options.items())))  # fmt: skip
     if key not in _SECTOR_MEMO:
         most: dict[str, int] = {}
-        for j in range(CYCLE_SAMPLES):
-            scene = study_scene(study, (cycle + j / CYCLE_SAMPLES) * pitch, **options)
+        for angle in angles:
+            scene = study_scene(study, angle, **options)
             for k, n in sector_teeth(scene, study, spacing, width).items():
                 most[k] = max(most.get(k, 0), n)
         if len(_SECTOR_MEMO) >= 64:

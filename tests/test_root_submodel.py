@@ -18,7 +18,7 @@ from meshing import sizing
 from meshing.body_cache import load_body
 from meshing.scene_bodies import load_body_meshes
 from meshing.sizing import MeshingError
-from meshing.submodel import SUBMODEL_MARGIN, sector_turn, submodel_body
+from meshing.submodel import SUBMODEL_MARGIN, max_read_teeth, sector_turn, submodel_body
 from solvers.gear_train import build_gear_train
 from solvers.root_stress import body_root_stress, loaded_teeth
 from solvers.root_submodel import (
@@ -148,6 +148,12 @@ def test_submodel_sector_checks(scene):
         submodel_body(gb, 16, "pos")
     with pytest.raises(MeshingError, match=r"submodel side = 'left'"):
         submodel_body(gb, 2, "left")
+    # the rule a cycle-wide sector falls back on (solvers.root_submodel): 15 read teeth fit
+    assert max_read_teeth(gb.gear) == 15
+    submodel_body(gb, 15, "pos")
+    for bad in (0, "3", 2.0):  # a count below one, or not an integer, is named, not a TypeError
+        with pytest.raises(MeshingError, match=rf"submodel of {bad!r} read teeth: needs 1 to 15"):
+            submodel_body(gb, bad, "pos")
 
 
 def test_a_point_force_beside_the_fillet_is_not_read_as_root_stress(solved, scene):
