@@ -416,6 +416,11 @@ def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
         src = s.get("uncertainty_source") or {}
         if s.get("uncertainty") and src.get("convergence_study"):
             two = " two levels only" if src.get("method") == "two-grid" else ""
+            rec = src.get("recorded")
+            if rec:  # a study kept in the repository (studies.uncertainty.RECORDS)
+                commit = str(rec.get("git_revision"))[:10]
+                two += f", recorded {rec.get('date', '?')} on commit {commit}"
+                two += "; the code has changed since" if rec.get("code_changed") else ""
             label = f"{src['convergence_study']} ({src.get('run')}{two})"
             by_study.setdefault(label, []).append(name)
         else:

@@ -52,6 +52,10 @@ class BodyStore:
             del self._bodies[old]
             self.evicted += 1
 
+    def objects(self) -> list:
+        """The objects held, least recently used first."""
+        return list(self._bodies.values())
+
     @property
     def mesh_memo(self) -> dict | None:
         """The memo of loaded meshes (None without reuse: every mesh is loaded again)."""

@@ -4,7 +4,7 @@ use, a speed-against-error chart.
 
     python -m studies.convergence 1-GB [--levels 0 1 2] [--extra 0:2 ...] [--positions 1]
         [--out results/convergence] [--min-free-gb 16] [--no-reuse] [--split-root-stress]
-        [--reduce-only] [--out-of-core 2 0:2]
+        [--reduce-only] [--out-of-core 2 0:2] [--record] [--unless-recorded]
 
 Every (level, degree) run solves the case's first ``--positions`` mesh positions (equally
 spaced over one base pitch, as ``studies.run``) in a fresh child process
@@ -32,6 +32,11 @@ factors on disk (``numerics.out_of_core``: the same answer, less memory, slower 
 whatever code solved them (after a change to the reduction alone: targets, extrapolation,
 report), and the report names the code the runs came from.
 
+``--record`` also copies the study (convergence.json with the date, commit and source hash
+it was solved with, report.md, the chart) to ``studies/records/convergence/<case>/``, where
+summaries find it when ``<out>`` has none (:mod:`studies.uncertainty`); ``--unless-recorded``
+runs nothing when a record of the same match key and ladder exists (the main ``make``).
+
 Writes ``<out>/<case>/convergence.json`` (:mod:`postprocess.convergence_study`: per scalar
 the values, status, observed order, extrapolated value, error and uncertainty of every run;
 the recommended run; what a summary must share to use the study, :mod:`studies.uncertainty`),
@@ -43,8 +48,10 @@ written.
 from __future__ import annotations
 
 import argparse
+import datetime
 import os
 import platform
+import shutil
 import sys
 from pathlib import Path
 
@@ -57,8 +64,8 @@ from postprocess.convergence_study import recommend, scalar_table
 from studies.cli import InputError, guarded
 from studies.files import ResultFileError, read_json, write_json
 from studies.position_runs import mem_available_gb, print_row, run_child, solve_run
-from studies.provenance import code_hash
-from studies.uncertainty import STUDY_FILE, match_key
+from studies.provenance import code_hash, git_revision
+from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded
 
 LADDER_DEGREE = 1
 POSITIONS_NOTE = {
@@ -224,10 +231,47 @@ def _say(row: dict) -> None:
     )
 
 
-def study(args) -> Path:
-    """Run (or reuse) every run, then write convergence.json, the chart and the report."""
+def ladder(args, runs: list[tuple[int, int]]) -> dict:
+    """What a record must share with a study to stand for it (:func:`studies.uncertainty.recorded`):
+    the runs asked for, the positions and the root-stress split (out of core or not gives the
+    same answer)."""
+    return {"runs": [run_label(*r) for r in runs], "positions": args.positions,
+            "split_root_stress": bool(args.split_root_stress)}  # fmt: skip
+
+
+def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
+    """Copy the study in ``folder`` to ``<records>/<case>/`` with the date, commit and source
+    hash it was solved with (``recorded``); returns the record's convergence.json."""
+    dest = records / conv["case"]
+    dest.mkdir(parents=True, exist_ok=True)
+    runs_code = conv.get("runs_code_hash") or []
+    rec = {**conv, "recorded": {
+        "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
+        "git_revision": git_revision(),
+        # the code the runs were solved with, when one code solved them all
+        "code_hash": runs_code[0] if len(runs_code) == 1 else code_hash(),
+        "machine": conv.get("machine"),
+    }}  # fmt: skip
+    write_json(dest / STUDY_FILE, rec)
+    for name in ("report.md", CHART):
+        if (folder / name).is_file():
+            shutil.copyfile(folder / name, dest / name)
+    return dest / STUDY_FILE
+
+
+def study(args) -> Path | None:
+    """Run (or reuse) every run, then write convergence.json, the chart and the report
+    (and the record, ``--record``); nothing with ``--unless-recorded`` and a record."""
     case = load_study_case(args.case)
     runs = _check(args)
+    if args.unless_recorded:
+        have = recorded(case, ladder(args, runs), args.records)
+        if have is not None:
+            print(
+                f"{case.name}: the recorded study {have} has this gear set, scene, numerics "
+                "and ladder: nothing to run (make convergence-main RECORD=1 runs it again)"
+            )
+            return None
     folder = args.out / case.name
     (folder / "runs").mkdir(parents=True, exist_ok=True)
     rows, skipped = [], []
@@ -270,6 +314,7 @@ def study(args) -> Path:
             f"{args.positions} mesh positions over one base pitch (means and maxima over them).",
         ),
         "ladder_degree": LADDER_DEGREE,
+        "ladder": ladder(args, runs),
         "labels": [r["label"] for r in rows if "error" not in r],
         "runs": rows,
         "skipped": skipped,
@@ -282,6 +327,8 @@ def study(args) -> Path:
         (folder / CHART).unlink(missing_ok=True)
     report = write_report(conv, folder)
     print(f"{conv['recommendation']['note']}\nwrote {folder / STUDY_FILE} and {report}")
+    if args.record:
+        print(f"recorded {record(folder, conv, args.records)}")
     return report
 
 
@@ -333,6 +380,18 @@ def main(argv=None) -> int:
         help="solve these runs with the LU factors on disk (numerics.out_of_core: the same "
         "answer, less memory, slower solves)",
     )
+    ap.add_argument(
+        "--record",
+        action="store_true",
+        help="copy the study to studies/records/convergence/<case>/ (summaries use it where "
+        "the results folder has no study)",
+    )
+    ap.add_argument(
+        "--unless-recorded",
+        action="store_true",
+        help="run nothing when a record of this gear set, scene, numerics and ladder exists",
+    )
+    ap.add_argument("--records", type=Path, default=RECORDS, help=argparse.SUPPRESS)
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
     ap.add_argument("--out-of-core-run", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)

@@ -9,6 +9,16 @@ and grid do. :func:`match_key` is what must agree; :func:`summary_uncertainty` f
 ``uncertainty`` entries for the run's level and degree
 (:func:`postprocess.convergence.uncertainty_for`), or ``uncertainty: None`` and a note saying
 what was looked for and where.
+
+Where to look: the studies of this machine (``<results>/convergence``) first, then the
+recorded ones (:data:`RECORDS`, ``studies/records/convergence/<case>/``, kept in the
+repository): the mesh ladders behind the main study's ± take 107 min on 2 cores, more than
+the rest of the study, so ``make convergence-main RECORD=1`` writes their studies there
+once and ``make`` runs a ladder only where no record matches (:func:`recorded`). A record
+keeps the commit and the source hash it was solved with; a summary that takes its ± from a
+record made by other code says so (``uncertainty_source.recorded``, and the reports), since
+a code change may change the discretisation error too (the inputs cannot have changed: they
+are in the match key).
 """
 
 from __future__ import annotations
@@ -20,8 +30,11 @@ from pathlib import Path
 from cases.study_case import StudyCase, study_inputs
 from postprocess.convergence import uncertainty_for
 from studies.files import ResultFileError, read_json
+from studies.provenance import code_hash
 
 STUDY_FILE = "convergence.json"
+#: the recorded convergence studies (one folder per case: convergence.json, report.md, chart)
+RECORDS = Path(__file__).resolve().parent / "records" / "convergence"
 
 
 def match_key(study: StudyCase) -> dict:
@@ -47,13 +60,11 @@ def match_key(study: StudyCase) -> dict:
     }
 
 
-def summary_uncertainty(study: StudyCase, level: int, degree: int, results: Path) -> dict:
-    """The ``uncertainty``, ``uncertainty_abs`` and ``uncertainty_source`` entries of the
-    summary of ``study`` solved at ``level``/``degree`` with results under ``results``."""
-    folder = Path(results) / "convergence"
-    key = match_key(study)
+def _studies(folder: Path, name: str, key: dict):
+    """(path, study) of every readable convergence study under ``folder`` whose match key is
+    ``key``: the one of case ``name`` first, then the others in name order."""
     paths = sorted(
-        folder.glob(f"*/{STUDY_FILE}"), key=lambda p: (p.parent.name != study.name, p.parent.name)
+        Path(folder).glob(f"*/{STUDY_FILE}"), key=lambda p: (p.parent.name != name, p.parent.name)
     )
     for path in paths:
         try:
@@ -61,13 +72,52 @@ def summary_uncertainty(study: StudyCase, level: int, degree: int, results: Path
         except ResultFileError:
             continue
         if isinstance(conv, dict) and conv.get("match") == key and conv.get("scalars"):
-            return uncertainty_for(conv, level, degree, str(path))
+            yield path, conv
+
+
+def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> Path | None:
+    """The record (its convergence.json) of a convergence study of ``study``'s match key
+    run with ``ladder`` (levels, extra runs, positions, split root stress; what
+    :mod:`studies.convergence` writes as ``ladder``), or None."""
+    if records is None:
+        return None
+    for path, conv in _studies(records, study.name, match_key(study)):
+        if conv.get("ladder") == ladder:
+            return path
+    return None
+
+
+def summary_uncertainty(
+    study: StudyCase, level: int, degree: int, results: Path, records: Path | None = RECORDS
+) -> dict:
+    """The ``uncertainty``, ``uncertainty_abs`` and ``uncertainty_source`` entries of the
+    summary of ``study`` solved at ``level``/``degree`` with results under ``results``: from
+    a study under ``<results>/convergence``, else from a record under ``records`` (None:
+    none), which adds ``uncertainty_source.recorded`` (date, commit, the source hash it was
+    solved with and whether the code has changed since)."""
+    folder = Path(results) / "convergence"
+    key = match_key(study)
+    for path, conv in _studies(folder, study.name, key):
+        return uncertainty_for(conv, level, degree, str(path))
+    if records is not None:
+        for path, conv in _studies(records, study.name, key):
+            out = uncertainty_for(conv, level, degree, str(path))
+            rec = dict(conv.get("recorded") or {})
+            rec["code_changed"] = rec.get("code_hash") != code_hash()
+            out["uncertainty_source"]["recorded"] = rec
+            if rec["code_changed"]:
+                out["uncertainty_source"]["note"] += (
+                    f"; recorded {rec.get('date', '?')} on commit "
+                    f"{str(rec.get('git_revision'))[:10]}, and the pipeline's code has "
+                    "changed since (make convergence-main RECORD=1 solves the ladder again)"
+                )
+            return out
     return {
         "uncertainty": None,
         "uncertainty_abs": None,
         "uncertainty_source": {
             "note": f"no convergence study for gear set {key['gearset']} in the "
-            f"{key['scene']} scene with these numerics under {folder} (make convergence "
-            f"CASE={study.name}): no uncertainty given"
+            f"{key['scene']} scene with these numerics under {folder} or recorded "
+            f"(make convergence CASE={study.name}): no uncertainty given"
         },
     }

@@ -13,7 +13,7 @@ from meshing.sizing import LEVELS, with_fillet
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table, target
 from studies.files import read_json, write_json
-from studies.uncertainty import STUDY_FILE, match_key, summary_uncertainty
+from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded, summary_uncertainty
 
 LIMITS = {
     "My_pin": 40.0,
@@ -132,24 +132,90 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
     }
     (tmp_path / "convergence" / "1-GB").mkdir(parents=True)
     write_json(tmp_path / "convergence" / "1-GB" / STUDY_FILE, conv)
-    got = summary_uncertainty(ga, 1, 1, tmp_path)  # 1-GA shares the gear set and scene
+    got = summary_uncertainty(ga, 1, 1, tmp_path, records=None)  # 1-GA: same gear set, scene
     assert got["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L1P1"]
     assert "1-GB" in got["uncertainty_source"]["convergence_study"]
     assert "bending_stress_iso6336_nominal.sun" not in got["uncertainty"]
-    missing = summary_uncertainty(ga, 3, 1, tmp_path)
+    missing = summary_uncertainty(ga, 3, 1, tmp_path, records=None)
     assert (
         missing["uncertainty"] is None
         and "no run at level 3" in (missing["uncertainty_source"]["note"])
     )
-    case2 = summary_uncertainty(load_study_case("2B-GA"), 1, 1, tmp_path)
+    case2 = summary_uncertainty(load_study_case("2B-GA"), 1, 1, tmp_path, records=None)
     assert case2["uncertainty"] is None and "gear set case2" in case2["uncertainty_source"]["note"]
     # a study of the zone contact model (the default) does not serve a line-model case
     # (other numerics)
     line = replace(ga, numerics=replace(ga.numerics, contact_model="line"))
-    assert summary_uncertainty(line, 1, 1, tmp_path)["uncertainty"] is None
+    assert summary_uncertainty(line, 1, 1, tmp_path, records=None)["uncertainty"] is None
     # nor a run on coarse root fillets (more compliant teeth: another model)
     coarse = replace(ga, numerics=replace(ga.numerics, root_fillets="coarse"))
-    assert summary_uncertainty(coarse, 1, 1, tmp_path)["uncertainty"] is None
+    assert summary_uncertainty(coarse, 1, 1, tmp_path, records=None)["uncertainty"] is None
+
+
+def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
+    """make runs the ladders only where no record matches (--unless-recorded); a summary takes
+    a record's ± when its results folder has no study, and says when the code has changed
+    since the record was solved."""
+    from studies.convergence import record
+    from studies.provenance import code_hash
+
+    table = scalar_table(ROWS)
+    gb, ga = load_study_case("1-GB"), load_study_case("1-GA")
+    ladder = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
+    conv = {"case": "1-GB", "match": match_key(gb), "labels": [r["label"] for r in ROWS],
+            "positions": 1, "code_hash": "x", "runs_code_hash": [code_hash()],
+            "ladder": ladder, "scalars": table}  # fmt: skip
+    study_dir, records = tmp_path / "study", tmp_path / "records"
+    study_dir.mkdir()
+    (study_dir / "report.md").write_text("# the study\n")
+    path = record(study_dir, conv, records)
+    assert path == records / "1-GB" / STUDY_FILE and (records / "1-GB" / "report.md").is_file()
+    stored = read_json(path)
+    assert stored["recorded"]["code_hash"] == code_hash() and stored["recorded"]["date"]
+    # found by match key and ladder: another ladder or another gear set is not it
+    assert recorded(ga, ladder, records) == path
+    assert recorded(ga, {**ladder, "positions": 5}, records) is None
+    assert recorded(load_study_case("2B-GA"), ladder, records) is None
+    # no study under the results: the record's ± with its provenance, code unchanged
+    got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
+    assert got["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L1P1"]
+    assert got["uncertainty_source"]["recorded"]["code_changed"] is False
+    assert "changed since" not in got["uncertainty_source"]["note"]
+    # solved by other code: still the record's ±, and the note says the code changed
+    write_json(path, {**stored, "recorded": {**stored["recorded"], "code_hash": "0" * 16}})
+    got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
+    assert got["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L1P1"]
+    assert got["uncertainty_source"]["recorded"]["code_changed"] is True
+    assert "the pipeline's code has changed since" in got["uncertainty_source"]["note"]
+    # make's convergence-main: a matching record means nothing to run, nothing written
+    from studies.convergence import main
+
+    out = tmp_path / "out"
+    argv = ["1-GA", "--levels", "0", "1", "2", "--extra", "--split-root-stress",
+            "--unless-recorded", "--records", str(records), "--out", str(out)]  # fmt: skip
+    assert main(argv) == 0 and not out.exists()
+    # a study of this machine comes first
+    mine = {**conv, "scalars": scalar_table(ROWS[:2])}
+    (tmp_path / "results" / "convergence" / "1-GB").mkdir(parents=True)
+    write_json(tmp_path / "results" / "convergence" / "1-GB" / STUDY_FILE, mine)
+    got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
+    assert "recorded" not in got["uncertainty_source"]
+    assert "results" in got["uncertainty_source"]["convergence_study"]
+
+
+@pytest.mark.parametrize("case", ["1-GB", "2B-GA"])
+def test_the_recorded_ladders_match_their_cases(case):
+    """The records behind the main study's ± (make convergence-main RECORD=1) are of today's
+    gear set, scene and numerics: a change to the case data without a new record would make
+    every make solve the ladder again, and this test says which record to renew."""
+    path = RECORDS / case / STUDY_FILE
+    if not path.is_file():
+        pytest.skip(f"no record of {case} yet (make convergence-main RECORD=1)")
+    conv = read_json(path)
+    assert conv["match"] == match_key(load_study_case(case)), (
+        f"{path} is of other inputs: make convergence-main RECORD=1"
+    )
+    assert conv["scalars"] and conv["recorded"]["git_revision"]
 
 
 @pytest.mark.parametrize(

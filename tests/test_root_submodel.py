@@ -102,10 +102,12 @@ def test_sector_loads_hold_the_mesh_load(solved, scene):
 
 
 def test_cg_gamg_gives_the_lu_stress(solved, scene):
-    """The default solver of the submodel (CG + GAMG, relative residual 1e-8, no factor in
-    memory) reads the root stress of the exact LU to 1e-5 relative (measured 6e-7 against
-    a 1e-10 residual on the level-0 1-GB submodels at 0.3 mm: SUBMODEL_CG_RTOL), on the
-    sun's submodel under the solved loads."""
+    """The default solver of the submodel (CG + GAMG, relative residual 1e-6, no factor in
+    memory) reads the root stress of the exact LU to 5e-4 relative, on the sun's submodel
+    under the solved loads: measured at most 1.3e-4 against a 1e-10 residual on level 1's
+    four 1-GB sectors (SUBMODEL_CG_RTOL), with margin for another sector and load; 5e-4 is
+    still 70x below the smallest root-stress ± (3.5 %), and a CG that stopped early or a
+    preconditioner without the rigid modes misses it by far."""
     model, res = solved
     p = model.problem
     pg = scene.gear("sun")
@@ -125,7 +127,7 @@ def test_cg_gamg_gives_the_lu_stress(solved, scene):
         u = sub.solve(gb, ug, loads, sector_turn(pg.gear, first))
         got[solver] = body_root_stress(sub, u, pg.gear, canon)["sun"]
     for q in ("value", "tangent", "cell_max"):
-        assert got["cg-gamg"][q] == pytest.approx(got["mumps"][q], rel=1e-5), q
+        assert got["cg-gamg"][q] == pytest.approx(got["mumps"][q], rel=5e-4), q
     with pytest.raises(ValueError, match=r"submodel solver 'lu': must be one of"):
         SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags, gb.material, 2,
                      cut_names("sun", False), solver="lu")  # fmt: skip
