@@ -187,6 +187,12 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     assert got["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L1P1"]
     assert got["uncertainty_source"]["recorded"]["code_changed"] is True
     assert "the pipeline's code has changed since" in got["uncertainty_source"]["note"]
+    # the reports' ± line names the record and that the code changed since
+    from postprocess.convergence import uncertainty_note
+
+    line = uncertainty_note({"1-GA": {**got}})
+    assert f"recorded {stored['recorded']['date']} on commit" in line
+    assert "the code has changed since" in line
     # make's convergence-main: a matching record means nothing to run, nothing written
     from studies.convergence import main
 
