@@ -4,6 +4,7 @@ by the inputs, partial failure (a study that fails part way keeps what it finish
 import io
 import json
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -161,6 +162,8 @@ def test_case1_report(study):
     text = write_report(out).read_text()
     assert f"| 1-GA | 0 | {N_POS} | {summary['dofs']} |" in text
     assert "Rigid bearing" in text
-    # the report quotes this run's numbers beside the closed form's
+    # the report quotes this run's numbers beside the closed form's (with the ± of the gear
+    # set's recorded convergence study, where there is one: studies.uncertainty.RECORDS)
     at_z = summary["analytic"]["at_fe_ZS_ZR"]["My_pin"]
-    assert f"| My_pin | {summary['My_pin']:.1f} | {at_z:.1f} |" in text
+    row = rf"\| My_pin \| {summary['My_pin']:.1f}( ± [0-9.]+)? \| {at_z:.1f} \|"
+    assert re.search(row, text), row
