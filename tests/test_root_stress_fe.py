@@ -103,8 +103,11 @@ def test_root_stress_parallel_equals_serial():
     ser = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)["bending_stress"]
     for key in KEYS:
         assert par["global"][key] == pytest.approx(ser["global"][key], rel=1e-6), key
-        assert par[key] == pytest.approx(ser[key], rel=1e-5), key
-        assert par["tangent"][key] == pytest.approx(ser["tangent"][key], rel=1e-5), key
+        # the submodels' CG stops at a relative residual of 1e-6 (SUBMODEL_CG_RTOL), whose
+        # AMG differs by partition: 1.3e-4 from the exact solve measured, 5e-4 allowed (as
+        # in test_cg_gamg_gives_the_lu_stress); measured 5e-5 between 2 ranks and serial
+        assert par[key] == pytest.approx(ser[key], rel=5e-4), key
+        assert par["tangent"][key] == pytest.approx(ser["tangent"][key], rel=5e-4), key
         assert par["cell_max"][key] == pytest.approx(ser["cell_max"][key], rel=1e-5), key
         for q in ("tooth", "side", "tangent_tooth", "tangent_side"):
             assert par["locations"][key][q] == ser["locations"][key][q], (key, q)
