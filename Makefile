@@ -186,8 +186,8 @@ convergence: $(STAMP) ## discretisation error of every scalar: make convergence 
 # The two ladders take about 107 min on 2 cores, more than the rest of the study: their
 # studies are recorded in the repository (studies/records/convergence/<case>/, with the commit
 # and source hash they were solved with), and `make` runs a ladder only where no record of its
-# gear set, scene, numerics and ladder exists; the summaries take a record's ± where
-# results/convergence has no study, and say when the code has changed since it was solved.
+# gear set, scene, numerics and ladder exists; the summaries take the ± of a study solved by
+# today's code (results/convergence first, then the records), else say it was not.
 # `make convergence-main RECORD=1` solves both ladders again (finished runs under
 # results/convergence reused while inputs and code are unchanged) and records them.
 # `make MAIN_CONVERGENCE=` leaves both out (summaries then take the records' ±, or say

@@ -420,7 +420,8 @@ def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
             if rec:  # a study kept in the repository (studies.uncertainty.RECORDS)
                 commit = str(rec.get("git_revision"))[:10]
                 two += f", recorded {rec.get('date', '?')} on commit {commit}"
-                two += "; the code has changed since" if rec.get("code_changed") else ""
+            if src.get("code_changed"):
+                two += "; solved by other code than today's"
             label = f"{src['convergence_study']} ({src.get('run')}{two})"
             by_study.setdefault(label, []).append(name)
         else:

@@ -240,17 +240,14 @@ def ladder(args, runs: list[tuple[int, int]]) -> dict:
 
 
 def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
-    """Copy the study in ``folder`` to ``<records>/<case>/`` with the date, commit and source
-    hash it was solved with (``recorded``); returns the record's convergence.json."""
+    """Copy the study in ``folder`` to ``<records>/<case>/`` with the date and commit it was
+    recorded on (``recorded``; the source hash of its runs is the study's ``runs_code_hash``);
+    returns the record's convergence.json."""
     dest = records / conv["case"]
     dest.mkdir(parents=True, exist_ok=True)
-    runs_code = conv.get("runs_code_hash") or []
     rec = {**conv, "recorded": {
         "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "git_revision": git_revision(),
-        # the code the runs were solved with, when one code solved them all
-        "code_hash": runs_code[0] if len(runs_code) == 1 else code_hash(),
-        "machine": conv.get("machine"),
     }}  # fmt: skip
     write_json(dest / STUDY_FILE, rec)
     for name in ("report.md", CHART):

@@ -15,10 +15,10 @@ recorded ones (:data:`RECORDS`, ``studies/records/convergence/<case>/``, kept in
 repository): the mesh ladders behind the main study's ± take 107 min on 2 cores, more than
 the rest of the study, so ``make convergence-main RECORD=1`` writes their studies there
 once and ``make`` runs a ladder only where no record matches (:func:`recorded`). A record
-keeps the commit and the source hash it was solved with; a summary that takes its ± from a
-record made by other code says so (``uncertainty_source.recorded``, and the reports), since
-a code change may change the discretisation error too (the inputs cannot have changed: they
-are in the match key).
+keeps the commit it was solved on and its runs keep their source hash; a summary that takes
+its ± from a study (recorded or not) solved by other code says so
+(``uncertainty_source.code_changed``, and the reports), since a code change may change the
+discretisation error too (the inputs cannot have changed: they are in the match key).
 """
 
 from __future__ import annotations
@@ -87,31 +87,43 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
     return None
 
 
+def solved_with(conv: dict) -> list[str]:
+    """The source hashes of the code that solved a convergence study's runs (of the code that
+    reduced it, for a study that does not list them)."""
+    return sorted(set(conv.get("runs_code_hash") or [conv.get("code_hash")]))
+
+
 def summary_uncertainty(
     study: StudyCase, level: int, degree: int, results: Path, records: Path | None = RECORDS
 ) -> dict:
     """The ``uncertainty``, ``uncertainty_abs`` and ``uncertainty_source`` entries of the
-    summary of ``study`` solved at ``level``/``degree`` with results under ``results``: from
-    a study under ``<results>/convergence``, else from a record under ``records`` (None:
-    none), which adds ``uncertainty_source.recorded`` (date, commit, the source hash it was
-    solved with and whether the code has changed since)."""
+    summary of ``study`` solved at ``level``/``degree`` with results under ``results``.
+
+    The studies of its match key under ``<results>/convergence``, then those under
+    ``records`` (None: none); the first one solved by today's code, else the first one,
+    with ``uncertainty_source.code_changed`` and a note saying the code differs (a study
+    left in the results by an earlier make does not silently stand before a current record).
+    A record adds ``uncertainty_source.recorded`` (date and commit)."""
     folder = Path(results) / "convergence"
     key = match_key(study)
-    for path, conv in _studies(folder, study.name, key):
-        return uncertainty_for(conv, level, degree, str(path))
+    found = list(_studies(folder, study.name, key))
     if records is not None:
-        for path, conv in _studies(records, study.name, key):
-            out = uncertainty_for(conv, level, degree, str(path))
-            rec = dict(conv.get("recorded") or {})
-            rec["code_changed"] = rec.get("code_hash") != code_hash()
-            out["uncertainty_source"]["recorded"] = rec
-            if rec["code_changed"]:
-                out["uncertainty_source"]["note"] += (
-                    f"; recorded {rec.get('date', '?')} on commit "
-                    f"{str(rec.get('git_revision'))[:10]}, and the pipeline's code has "
-                    "changed since (make convergence-main RECORD=1 solves the ladder again)"
-                )
-            return out
+        found += list(_studies(records, study.name, key))
+    if found:
+        now = [code_hash()]
+        path, conv = next(((p, c) for p, c in found if solved_with(c) == now), found[0])
+        out = uncertainty_for(conv, level, degree, str(path))
+        src = out["uncertainty_source"]
+        src["code_changed"] = solved_with(conv) != now
+        if conv.get("recorded"):
+            src["recorded"] = conv["recorded"]
+        if src["code_changed"]:
+            src["note"] += (
+                f"; its runs were solved by other code (source {', '.join(solved_with(conv))}, "
+                f"today {now[0]}): make convergence-main RECORD=1 (or make convergence) "
+                "solves the ladder again"
+            )
+        return out
     return {
         "uncertainty": None,
         "uncertainty_abs": None,

@@ -171,7 +171,7 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     path = record(study_dir, conv, records)
     assert path == records / "1-GB" / STUDY_FILE and (records / "1-GB" / "report.md").is_file()
     stored = read_json(path)
-    assert stored["recorded"]["code_hash"] == code_hash() and stored["recorded"]["date"]
+    assert stored["recorded"]["date"] and stored["runs_code_hash"] == [code_hash()]
     # found by match key and ladder: another ladder or another gear set is not it
     assert recorded(ga, ladder, records) == path
     assert recorded(ga, {**ladder, "positions": 5}, records) is None
@@ -179,20 +179,34 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     # no study under the results: the record's ± with its provenance, code unchanged
     got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
     assert got["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L1P1"]
-    assert got["uncertainty_source"]["recorded"]["code_changed"] is False
-    assert "changed since" not in got["uncertainty_source"]["note"]
-    # solved by other code: still the record's ±, and the note says the code changed
-    write_json(path, {**stored, "recorded": {**stored["recorded"], "code_hash": "0" * 16}})
+    assert got["uncertainty_source"]["recorded"] == stored["recorded"]
+    assert got["uncertainty_source"]["code_changed"] is False
+    assert "other code" not in got["uncertainty_source"]["note"]
+    # a study left in the results by other code does not stand before a current record
+    stale = {**conv, "scalars": scalar_table(ROWS[:2]), "runs_code_hash": ["0" * 16]}
+    (tmp_path / "results" / "convergence" / "1-GB").mkdir(parents=True)
+    write_json(tmp_path / "results" / "convergence" / "1-GB" / STUDY_FILE, stale)
     got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
-    assert got["uncertainty"]["My_pin"] == table["My_pin"]["uncertainty"]["L1P1"]
-    assert got["uncertainty_source"]["recorded"]["code_changed"] is True
-    assert "the pipeline's code has changed since" in got["uncertainty_source"]["note"]
+    assert got["uncertainty_source"]["convergence_study"] == str(path)
+    # a record solved by other code: still a ±, the first found (this machine's), flagged
+    write_json(path, {**stored, "runs_code_hash": ["1" * 16]})
+    got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
+    assert "results" in got["uncertainty_source"]["convergence_study"]
+    assert got["uncertainty"]["My_pin"] == stale["scalars"]["My_pin"]["uncertainty"]["L1P1"]
+    assert got["uncertainty_source"]["code_changed"] is True
+    assert "solved by other code (source 0000000000000000" in got["uncertainty_source"]["note"]
+    (tmp_path / "results" / "convergence" / "1-GB" / STUDY_FILE).unlink()
+    got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
+    assert (
+        got["uncertainty_source"]["code_changed"] is True
+        and "recorded" in (got["uncertainty_source"])
+    )
     # the reports' ± line names the record and that the code changed since
     from postprocess.convergence import uncertainty_note
 
     line = uncertainty_note({"1-GA": {**got}})
     assert f"recorded {stored['recorded']['date']} on commit" in line
-    assert "the code has changed since" in line
+    assert "solved by other code than today's" in line
     # make's convergence-main: a matching record means nothing to run, nothing written
     from studies.convergence import main
 
@@ -200,9 +214,9 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     argv = ["1-GA", "--levels", "0", "1", "2", "--extra", "--split-root-stress",
             "--unless-recorded", "--records", str(records), "--out", str(out)]  # fmt: skip
     assert main(argv) == 0 and not out.exists()
-    # a study of this machine comes first
+    # a study of this machine solved by today's code comes first
     mine = {**conv, "scalars": scalar_table(ROWS[:2])}
-    (tmp_path / "results" / "convergence" / "1-GB").mkdir(parents=True)
+    (tmp_path / "results" / "convergence" / "1-GB").mkdir(parents=True, exist_ok=True)
     write_json(tmp_path / "results" / "convergence" / "1-GB" / STUDY_FILE, mine)
     got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
     assert "recorded" not in got["uncertainty_source"]
@@ -221,7 +235,7 @@ def test_the_recorded_ladders_match_their_cases(case):
     assert conv["match"] == match_key(load_study_case(case)), (
         f"{path} is of other inputs: make convergence-main RECORD=1"
     )
-    assert conv["scalars"] and conv["recorded"]["git_revision"]
+    assert conv["scalars"] and conv["recorded"]["git_revision"] and conv["runs_code_hash"]
 
 
 @pytest.mark.parametrize(

@@ -94,20 +94,18 @@ def test_root_stress_parallel_equals_serial():
     """Two ranks give the serial values, submodels included (the recovery runs on gathered,
     sorted samples: the same data on every rank). The global values to 1e-6 relative: the
     parallel solve's round-off (the moments of the same runs agree to 1e-6,
-    tests/test_gear_branch.py); the submodels' to 1e-5: their CG stops at a relative
-    residual of 1e-8, within about 1e-6 of the exact solve (tests/test_root_submodel.py),
-    and the serial and parallel AMG hierarchies differ, so each run is that close to the
-    exact value, not to the other run."""
+    tests/test_gear_branch.py); the submodels' to 5e-4: their CG stops at a relative
+    residual of 1e-6 (SUBMODEL_CG_RTOL), within 1.3e-4 of the exact solve on 1-GB's level-1
+    sectors (studies.bench_submodel; 5e-4 allowed in tests/test_root_submodel.py), and the
+    serial and parallel AMG hierarchies differ, so each run is that close to the exact
+    value, not to the other run (measured 5e-5 and 6e-5 between 2 ranks and serial)."""
     case = load_study_case("1-GA")
     par = solve_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)["bending_stress"]
     ser = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)["bending_stress"]
     for key in KEYS:
         assert par["global"][key] == pytest.approx(ser["global"][key], rel=1e-6), key
-        # the submodels' CG stops at a relative residual of 1e-6 (SUBMODEL_CG_RTOL), whose
-        # AMG differs by partition: 1.3e-4 from the exact solve measured, 5e-4 allowed (as
-        # in test_cg_gamg_gives_the_lu_stress); measured 5e-5 between 2 ranks and serial
-        assert par[key] == pytest.approx(ser[key], rel=5e-4), key
-        assert par["tangent"][key] == pytest.approx(ser["tangent"][key], rel=5e-4), key
-        assert par["cell_max"][key] == pytest.approx(ser["cell_max"][key], rel=1e-5), key
+        for q in (None, "tangent", "cell_max"):  # the submodels' values (docstring)
+            got, want = (par[key], ser[key]) if q is None else (par[q][key], ser[q][key])
+            assert got == pytest.approx(want, rel=5e-4), (key, q)
         for q in ("tooth", "side", "tangent_tooth", "tangent_side"):
             assert par["locations"][key][q] == ser["locations"][key][q], (key, q)
