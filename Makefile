@@ -56,8 +56,12 @@ $(STAMP): pyproject.toml
 
 test: test-serial test-mpi ## run all tests
 
+# The serial tests on TEST_WORKERS processes (pytest-xdist; each test is single-threaded):
+# --dist loadfile keeps a file's tests on one worker, so its module fixtures are built once.
+# TEST_WORKERS=0 runs them in this process.
+TEST_WORKERS ?= 2
 test-serial: $(STAMP)
-	$(PY) -m pytest -m "not mpi"
+	$(PY) -m pytest -m "not mpi" $(if $(filter-out 0,$(TEST_WORKERS)),-n $(TEST_WORKERS) --dist loadfile)
 
 # Exit code 5 = no test collected under this marker; not a failure. Each test file with MPI
 # tests runs in its own pair of processes, so the memory one file's tests leave in the ranks

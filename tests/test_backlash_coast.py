@@ -20,6 +20,7 @@ import math
 
 import numpy as np
 import pytest
+from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.gearset import CaseError, load_gearset, parse_gearset
@@ -275,6 +276,8 @@ def store():
 
 
 def _solve(study, store):
+    """One level-0 position; no test here reads the root stress (tests/global_root_stress.py)."""
+    study = global_root_stress(study)
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0, degree=1, store=store)
 
 

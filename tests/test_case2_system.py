@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from global_root_stress import global_root_stress
 from mpi4py import MPI
 from mpi_reference import serial_on_rank0
 from system_case import as_system
@@ -158,7 +159,10 @@ def stiff_system():
 
 @pytest.fixture(scope="module")
 def branch_ga():
-    return solve_position(load_study_case("2B-GA"), 0.0, MPI.COMM_SELF, level=0)
+    """2B-GA in the one-branch scene; its root stress (compared with nothing here) read on
+    the global model (tests/global_root_stress.py)."""
+    study = global_root_stress(load_study_case("2B-GA"))
+    return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
 
 
 def test_case2_system_torque_balance_and_load_shares(stiff_system):

@@ -13,6 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from global_root_stress import global_root_stress
 from mpi4py import MPI
 from statics import gear_torque, mesh_records, off_line_share, sun_force
 
@@ -88,7 +89,9 @@ def test_grid_on_both_exact_flanks(roll):
 
 
 def line_model(case):
-    """``case`` with the line contact model (points on the plane of action, penalty)."""
+    """``case`` with the line contact model (points on the plane of action, penalty), its
+    root stress read on the global model (no test of a line-model run reads it)."""
+    case = global_root_stress(case)
     return replace(case, numerics=replace(case.numerics, contact_model="line"))
 
 
@@ -105,7 +108,8 @@ def ga_line():
 
 @pytest.fixture(scope="module")
 def gc():
-    return solve_position(load_study_case("1-GC"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+    study = global_root_stress(load_study_case("1-GC"))  # its tests read no root stress
+    return solve_position(study, 0.0, MPI.COMM_SELF, level=0, degree=1)
 
 
 def carrier_torque_Nm(pos: dict) -> float:
@@ -283,7 +287,7 @@ def test_zone_model_has_no_penalty(ga):
     penalty factor is not used: a solve at 10 x the default gives the same results to
     round-off (1e-9 relative: the same linear systems; measured 0)."""
     assert all(m["grid_model"] == "zone" for m in mesh_records(ga))
-    case = load_study_case("1-GA")
+    case = global_root_stress(load_study_case("1-GA"))  # the moments: the same global solve
     hi = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1, penalty_factor=1000.0)
     for key in KEYS:
         scale = 29.0 if key in ("ZS", "ZR") else abs(ga["My_pin"])
@@ -298,7 +302,7 @@ def test_branch_parallel_equals_serial():
     1e-6 is a wide margin. The parallel run goes first so a cold mesh cache is built
     collectively before the ranks read it alone.
     """
-    case = load_study_case("1-GA")
+    case = global_root_stress(load_study_case("1-GA"))  # the root stress: test_root_stress_fe
     par = solve_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)
     ser = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
     for k in KEYS:

@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.gearset import CaseError, load_gearset, parse_gearset
@@ -236,10 +237,11 @@ def store():
 
 def _solve(name: str, gearset, store, model: str | None = None):
     """One position of case ``name`` on ``gearset``; ``model`` a contact model other than
-    the case's (the default, "zone")."""
+    the case's (the default, "zone"). No test here reads the root stress
+    (tests/global_root_stress.py)."""
     import dataclasses
 
-    study = dataclasses.replace(load_study_case(name), gearset=gearset)
+    study = global_root_stress(dataclasses.replace(load_study_case(name), gearset=gearset))
     if model is not None:
         numerics = dataclasses.replace(study.numerics, contact_model=model)
         study = dataclasses.replace(study, numerics=numerics)

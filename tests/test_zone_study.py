@@ -33,16 +33,24 @@ STDERR = io.StringIO()
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """(study, summary, position) of 1-GA solved with the zone (the shipped case, the
-    default) and with the line model."""
+    """(study, summary, position) of 1-GA solved with the zone (the shipped case's model,
+    the default) and with the line model; both read the root stress, which no test here
+    checks, on the global model instead of on submodels (tests/global_root_stress.py)."""
     out = tmp_path_factory.mktemp("zone_study")
     text = Path(load_study_case("1-GA").path).read_text()
     assert 'contact_model = "zone"' in text
-    case = out / "1-GA.toml"
-    case.write_text(text.replace('contact_model = "zone"', 'contact_model = "line"'))
+    cases = {}
+    for model in ("zone", "line"):
+        cases[model] = out / model / "1-GA.toml"
+        cases[model].parent.mkdir()
+        cases[model].write_text(
+            text.replace(
+                'contact_model = "zone"', f'contact_model = "{model}"\nroot_stress = "global"'
+            )
+        )
     store = BodyStore()  # the line run reuses the zone run's factorizations
     got = {}
-    for model, name in (("zone", "1-GA"), ("line", case)):
+    for model, name in cases.items():
         progress = Progress(out=io.StringIO(), err=STDERR)
         summary = study_run.run_study(name, out / model, level=0, positions=1,
                                       progress=progress, store=store)  # fmt: skip
