@@ -26,6 +26,9 @@ def session(model_name: str, verbose: bool = False):
     owner = not gmsh.isInitialized()
     if owner:
         gmsh.initialize(interruptible=False)
+    # options are global to a gmsh session that another module may have started and left
+    # open (solvers.simple_meshes): from the defaults, so a mesh is the same in any process
+    gmsh.option.restoreDefaults()
     gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
     gmsh.model.add(model_name)
     try:

@@ -33,8 +33,12 @@ class MeshBundle:
 def _start(name: str) -> None:
     if not gmsh.isInitialized():
         gmsh.initialize(interruptible=False)
+    # gmsh options are global to the session and outlive a model: start from the defaults,
+    # so a mesh does not depend on what was meshed before in this process (a body mesh's
+    # HXT mesher left set gave the roller 4083 cells instead of 4809)
+    gmsh.option.restoreDefaults()
     gmsh.option.setNumber("General.Terminal", 0)
-    # gmsh options are global to the session: set every size option used here
+    # and set every size option used here
     for opt, val in (
         ("MeshSizeMin", 0.0),
         ("MeshSizeMax", 1e22),
