@@ -16,6 +16,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from global_root_stress import global_root_stress
 from mpi4py import MPI
 from statics import chain_bound, off_line_share, sun_force
 
@@ -207,10 +208,8 @@ def test_sp_rp_differential_split_is_exact_on_the_line_grid():
     Table 5 + Z terms + s terms closes the FE value, ``other`` and ``from_cells`` vanish
     (all to round-off: 1e-9 N m against 150 N m moments; measured 2e-13). The root stress
     is read on the global model (tests/global_root_stress.py)."""
-    case = load_study_case("2B-GA")
-    case = replace(
-        case, numerics=replace(case.numerics, contact_model="line", root_stress="global")
-    )
+    case = global_root_stress(load_study_case("2B-GA"))
+    case = replace(case, numerics=replace(case.numerics, contact_model="line"))
     p = solve_position(case, 0.0, MPI.COMM_SELF, level=0)
     d = p["sp_rp_differential"]
     assert d["D_fe"] == pytest.approx(p["M_LOA_SPRP_diff"], abs=1e-9)
@@ -309,8 +308,7 @@ def test_double_pinion_study_parallel_equals_serial(tmp_path):
     # the serial reference without the root-stress submodels (every rank holds a whole
     # serial model: with six sectors each the test peaked at 21 GB of 23); the moments
     # compared here do not depend on how the root stress is read
-    study = load_study_case(case)
-    study = replace(study, numerics=replace(study.numerics, root_stress="global"))
+    study = global_root_stress(load_study_case(case))
     ser = solve_position(study, 0.0, MPI.COMM_SELF, level=0)
     par = summary["positions"][0]
     scale = abs(ser["My_RP"])

@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
+from global_root_stress import global_root_stress
 
 from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, with_fillet
@@ -496,5 +497,5 @@ def test_the_ladder_runs_read_the_two_submodel_ladders():
     at_top = replace(study, model=replace(study.model, level=top))
     assert submodel_levels(at_top, top, 1) == (top - 2,)
     assert submodel_levels(study, 0, 2) == ()  # off the ladder
-    glob = replace(study, numerics=replace(study.numerics, root_stress="global"))
+    glob = global_root_stress(study)
     assert submodel_levels(glob, 1, 1) == ()

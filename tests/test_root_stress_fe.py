@@ -6,9 +6,9 @@ default, solvers.root_submodel; ~30 s more) and on the global model's own fillet
 import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
-from dataclasses import replace
 
 import pytest
+from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.study_case import load_study_case
@@ -26,8 +26,7 @@ def ga():
 
 @pytest.fixture(scope="module")
 def ga_global():
-    case = load_study_case("1-GA")
-    case = replace(case, numerics=replace(case.numerics, root_stress="global"))
+    case = global_root_stress(load_study_case("1-GA"))
     return solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
 
 
