@@ -29,8 +29,7 @@ from postprocess.summary import summarise
 from solvers.body_store import BodyStore
 from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, write_json
-from studies.position import solve_position
-from studies.run import roll_angles
+from studies.position import roll_angles, solve_position
 
 
 def evaluate(study, slopes: dict, crowns: dict | None, rolls, comm, level, store) -> dict:

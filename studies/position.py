@@ -13,6 +13,7 @@ train carries (:mod:`postprocess.train_results`), the paper's quantities of each
 
 from __future__ import annotations
 
+import math
 import resource
 import time
 from collections.abc import Callable
@@ -33,6 +34,12 @@ from solvers.root_stress import root_stress
 from solvers.root_submodel import sector_teeth, submodel_root_stress
 
 _SECTOR_MEMO: dict[str, dict[str, int]] = {}  # see cycle_sector_teeth
+
+
+def roll_angles(study, positions: int) -> list[float]:
+    """Sun angles (rad) of ``positions`` equally spaced mesh positions over one base pitch."""
+    z_sun = study.gearset.gears[study.gearset.power_path[0]].teeth
+    return [2.0 * math.pi / z_sun * k / positions for k in range(positions)]
 
 
 def study_scene(study, roll: float, **options):

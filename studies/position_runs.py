@@ -33,8 +33,7 @@ from postprocess.convergence import summary_scalars
 from postprocess.summary import cycle_bending, summarise
 from solvers.body_store import BodyStore
 from solvers.elastic_body import OOC_DIR_ENV, ooc_folder
-from studies.position import solve_position
-from studies.run import roll_angles
+from studies.position import roll_angles, solve_position
 
 ROW_MARK = "@@row "  # the line of the child's stdout that holds its row
 

@@ -3,11 +3,21 @@
 Recorded in every ``summary.json`` and position file, and used to decide whether a finished
 position may be reused: a position is reused only when its inputs hash (the resolved case
 file and gear set, :func:`cases.study_case.inputs_hash`), the settings and the hash of the
-pipeline's own source (:func:`code_hash`) are all unchanged.
+code that computes its numbers (:func:`code_hash`) are all unchanged. The same hash tells
+whether a recorded convergence study was solved by today's code.
+
+What :func:`code_hash` covers (:func:`numeric_sources`): every module of the pipeline that
+the numbers of a position, a summary or a convergence run pass through, found as the static
+import closure (every ``import`` in the module, at any depth of its body, within the pipeline
+packages) of :data:`COMPUTE_ROOTS`; the drivers that choose what is solved
+(:data:`DRIVERS`, their own source); and every case and gear-set file. Reports, pictures,
+benchmarks and command-line shells are outside it, so a change to a report neither discards
+finished positions nor marks a recorded convergence study as solved by other code.
 """
 
 from __future__ import annotations
 
+import ast
 import functools
 import hashlib
 import importlib.metadata
@@ -22,15 +32,73 @@ VERSIONED = ("dolfinx-solver-real", "fenics-basix", "fenics-ffcx", "fenics-ufl",
              "numpy", "mpi4py", "pyvista")  # fmt: skip
 
 
+# the modules through which a position's, a summary's and a convergence run's numbers pass
+COMPUTE_ROOTS = ("studies.position", "studies.position_runs", "postprocess.summary",
+                 "postprocess.convergence", "postprocess.convergence_study")  # fmt: skip
+# the drivers that choose what is solved (their own source; their reports are outside)
+DRIVERS = ("studies.run", "studies.convergence")
+
+
+def _module_file(name: str) -> Path | None:
+    """Source file of the pipeline module ``name`` (a package's ``__init__.py``), or None."""
+    path = REPO_ROOT.joinpath(*name.split("."))
+    for f in (path / "__init__.py", path.with_suffix(".py")):
+        if f.is_file():
+            return f
+    return None
+
+
+def _imported(name: str) -> set[str]:
+    """The pipeline modules ``name`` imports anywhere in its source (``from a.b import c``
+    names ``a``, ``a.b`` and, if it is a module, ``a.b.c``)."""
+    tree = ast.parse(_module_file(name).read_text())
+    named = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            named.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            if node.level:
+                raise RuntimeError(f"code hash: {name} uses a relative import; write it absolute")
+            named.add(node.module)
+            named.update(f"{node.module}.{a.name}" for a in node.names)
+    out = set()
+    for dotted in named:
+        parts = dotted.split(".")
+        if parts[0] not in PACKAGES:
+            continue
+        for i in range(1, len(parts) + 1):
+            if _module_file(".".join(parts[:i])) is not None:
+                out.add(".".join(parts[:i]))
+    return out
+
+
+def numeric_sources() -> dict[str, Path]:
+    """Dotted name -> file of every source :func:`code_hash` covers: the import closure of
+    :data:`COMPUTE_ROOTS`, the :data:`DRIVERS` and every ``cases/**/*.toml``."""
+    seen: set[str] = set()
+    todo = list(COMPUTE_ROOTS)
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        if _module_file(name) is None:
+            raise RuntimeError(f"code hash: module {name!r} is not found; update COMPUTE_ROOTS")
+        seen.add(name)
+        todo.extend(_imported(name) - seen)
+    out = {name: _module_file(name) for name in sorted(seen | set(DRIVERS))}
+    for f in sorted((REPO_ROOT / "cases").rglob("*.toml")):
+        out[str(f.relative_to(REPO_ROOT))] = f
+    return out
+
+
 @functools.cache
 def code_hash() -> str:
-    """sha256 (16 hex) of every Python source and case file of the pipeline packages."""
+    """sha256 (16 hex) of the sources that compute the pipeline's numbers
+    (:func:`numeric_sources`: names and contents)."""
     h = hashlib.sha256()
-    for pkg in PACKAGES:
-        for f in sorted((REPO_ROOT / pkg).rglob("*")):
-            if f.suffix in (".py", ".toml") and "__pycache__" not in f.parts:
-                h.update(str(f.relative_to(REPO_ROOT)).encode())
-                h.update(f.read_bytes())
+    for name, f in numeric_sources().items():
+        h.update(name.encode())
+        h.update(f.read_bytes())
     return h.hexdigest()[:16]
 
 

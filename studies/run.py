@@ -41,7 +41,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import math
 import os
 import shutil
 import sys
@@ -82,7 +81,7 @@ from studies.cli import (
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
 from studies.plausibility import plausibility_warnings
-from studies.position import solve_position, study_scene
+from studies.position import roll_angles, solve_position, study_scene
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
 from studies.ranks import Ranks
@@ -91,12 +90,6 @@ from studies.uncertainty import summary_uncertainty
 # What a finished position file must hold to be reused (beyond the paper's scalars of its
 # gear-set kind, postprocess.paper_moments.MEAN_KEYS): what postprocess.summary reads.
 POSITION_KEYS = ("roll", "meshes", "pinions", "timings", "dofs", "reuse_key")
-
-
-def roll_angles(study: StudyCase, positions: int) -> list[float]:
-    """Sun angles (rad) of ``positions`` equally spaced mesh positions over one base pitch."""
-    z_sun = study.gearset.gears[study.gearset.power_path[0]].teeth
-    return [2.0 * math.pi / z_sun * k / positions for k in range(positions)]
 
 
 def reuse_key(study: StudyCase, level: int, degree: int, roll: float) -> dict:

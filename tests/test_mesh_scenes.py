@@ -145,7 +145,7 @@ def test_positions_of_a_study_share_the_body_meshes(case, kind):
     from cases.study_case import load_study_case
     from meshing import cache
     from meshing.body_cache import body_params
-    from studies.run import roll_angles
+    from studies.position import roll_angles
 
     study = load_study_case(case)
     for n in sorted({study.model.positions, 12}):

@@ -29,8 +29,7 @@ from solvers.root_submodel import (
     sector_teeth,
     tooth_run,
 )
-from studies.position import cycle_sector_teeth, study_scene
-from studies.run import roll_angles
+from studies.position import cycle_sector_teeth, roll_angles, study_scene
 
 
 @pytest.fixture(scope="module")
