@@ -75,7 +75,7 @@ def _fake_evaluate(jac_true, r0, curvature=0.0):
     def evaluate(study, slopes, crowns, rolls, comm, level, store):
         u = np.array([slopes["pinion"], slopes["sun"]])
         zs, zr = r0 + jac_true @ u + curvature * np.array([u[0] ** 2, u[1] * u[0]])
-        calls.append(u)
+        calls.append((u, study.numerics.root_stress))
         row = {k: 0.0 for k in lc.MOMENT_KEYS} | {"ZS": float(zs), "ZR": float(zr)}
         cyc = {"interior_p_max_MPa": 1.0, "edge_p_max_MPa": 2.0, "K_Hbeta": 1.5,
                "sigma_H_MPa": 3.0}  # fmt: skip
@@ -98,16 +98,34 @@ def test_iteration_reaches_the_tolerance(monkeypatch, curvature):
     assert np.abs(after).max() <= 0.5
     assert data["inputs"]["unknowns"] == ["pinion", "sun"]
     assert [h["kind"] for h in data["history"][:3]] == ["as given", "d/dpinion", "d/dsun"]
-    assert len(calls) == len(data["history"]) <= 8
+    # the search, at most 8 solves, reads the root stress on the global model; the slopes as
+    # given and the slopes found are solved once with the case's submodels
+    assert len(calls) == len(data["history"]) <= 8 + 1
+    assert data["history"][-1]["kind"] == "final"
+    assert [c[1] for c in calls] == ["submodel"] + ["global"] * (len(calls) - 2) + ["submodel"]
     if curvature == 0.0:  # linear: the first Newton step lands on the answer
-        assert len(calls) == 4 and np.abs(after).max() < 1e-9
+        assert len(calls) == 4 + 1 and np.abs(after).max() < 1e-9
     # the slopes reported are the ones of the solve whose ZS, ZR the report gives
     u = np.array([data["slopes_um"]["pinion"], data["slopes_um"]["sun"]])
-    k = [i for i, c in enumerate(calls) if np.array_equal(c, u)]
+    assert np.array_equal(calls[-1][0], u) and data["history"][-1]["ZS"] == data["after"]["ZS"]
+    k = [i for i, c in enumerate(calls[:-1]) if np.array_equal(c[0], u)]
     assert k and data["history"][k[0]]["ZS"] == data["after"]["ZS"]
     text = lc.report(data)
     assert "converged" in text and "[gears.pinion.modifications]" in text
     assert "[gears.sun.modifications]" in text
+
+
+def test_a_case_read_on_the_global_model_is_not_solved_again(monkeypatch):
+    """numerics.root_stress = "global": the search already reads the case's root stress, so
+    the slopes found are not solved a second time."""
+    jac_true = np.array([[-0.09, 0.06], [0.10, 0.004]])
+    evaluate, calls = _fake_evaluate(jac_true, np.array([-3.63, 4.0]))
+    monkeypatch.setattr(study_lc, "evaluate", evaluate)
+    study = global_root_stress(load_study_case("1-GB"))
+    data = study_lc.correct(study, level=0, positions=1, tol=0.5, fd_step=10.0, max_step=100.0,
+                            max_solves=8, crowns=None, comm=None, say=lambda *_: None)  # fmt: skip
+    assert data["converged"] and len(calls) == 4
+    assert {c[1] for c in calls} == {"global"} and data["history"][-1]["kind"] == "Newton"
 
 
 def test_refuses_a_double_pinion_case():
