@@ -61,6 +61,7 @@ from postprocess.train_results import mesh_stations
 from solvers import root_stress as RS
 from solvers.elastic_body import Material
 from solvers.gear_train import bearing_stiffness, pinion_frame, sun_torque
+from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 MOMENTS = ("Mx_pin", "My_pin", "M_LOA_sun", "M_LOA_ring")
@@ -96,9 +97,8 @@ def ours(case: str, level: int, roll: float, path: Path) -> None:
     CalculiX's terms, linear penalty contact included, and the zone model's half-space near
     field and exact contact have no counterpart there; the root stress read on the global
     mesh, where ccx's field is read too (no submodel on either side)."""
-    study = load_study_case(case)
-    num = replace(study.numerics, contact_model="line", root_stress="global")
-    study = replace(study, numerics=num)
+    study = global_root_stress(load_study_case(case))
+    study = replace(study, numerics=replace(study.numerics, contact_model="line"))
     t0 = time.perf_counter()
     pos = solve_position(study, roll, MPI.COMM_SELF, level=level)
     wall = time.perf_counter() - t0

@@ -31,6 +31,7 @@ from meshing import sizing
 from postprocess import lead_correction as lc
 from postprocess.summary import summarise
 from solvers.body_store import BodyStore
+from studies.case_variants import global_root_stress
 from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, write_json
 from studies.position import roll_angles, solve_position
@@ -58,10 +59,7 @@ def correct(study, *, level, positions, tol, fd_step, max_step, max_solves, crow
     rolls = roll_angles(study, positions)
     store = BodyStore()
     history = []
-    # the search needs ZS, ZR only: no root-stress submodels on its iterates
-    search = dataclasses.replace(
-        study, numerics=dataclasses.replace(study.numerics, root_stress="global")
-    )
+    search = global_root_stress(study)  # the search needs ZS, ZR only: no submodels
 
     def run(u, kind, case=search):
         slopes = dict(zip(names, (float(x) for x in u), strict=True))
@@ -96,7 +94,7 @@ def correct(study, *, level, positions, tol, fd_step, max_step, max_solves, crow
                 best_u, best = u, s
             if lc.converged(r, tol):
                 break
-    if best is not first and search != study:  # the slopes found, with the case's root stress
+    if best is not first and study.numerics.root_stress != "global":  # with the case's reading
         best = run(best_u, "final", study)
     slopes = dict(zip(names, (float(x) for x in best_u), strict=True))
     return {

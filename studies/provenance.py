@@ -75,16 +75,18 @@ def _imported(name: str) -> set[str]:
 def numeric_sources() -> dict[str, Path]:
     """Dotted name -> file of every source :func:`code_hash` covers: the import closure of
     :data:`COMPUTE_ROOTS`, the :data:`DRIVERS` and every ``cases/**/*.toml``."""
+    for name in (*COMPUTE_ROOTS, *DRIVERS):
+        if _module_file(name) is None:
+            raise RuntimeError(
+                f"code hash: module {name!r} is not found; update COMPUTE_ROOTS or DRIVERS"
+            )
     seen: set[str] = set()
     todo = list(COMPUTE_ROOTS)
     while todo:
         name = todo.pop()
-        if name in seen:
-            continue
-        if _module_file(name) is None:
-            raise RuntimeError(f"code hash: module {name!r} is not found; update COMPUTE_ROOTS")
-        seen.add(name)
-        todo.extend(_imported(name) - seen)
+        if name not in seen:
+            seen.add(name)
+            todo.extend(_imported(name) - seen)
     out = {name: _module_file(name) for name in sorted(seen | set(DRIVERS))}
     for f in sorted((REPO_ROOT / "cases").rglob("*.toml")):
         out[str(f.relative_to(REPO_ROOT))] = f

@@ -38,6 +38,7 @@ from cases.study_case import load_study_case
 from gears.units import n_m
 from postprocess import radial_stiffness_fe as rf
 from solvers.body_store import BodyStore
+from studies.case_variants import global_root_stress
 from studies.cli import guarded
 from studies.files import atomic_write_text, read_json, write_json
 from studies.position import solve_position
@@ -118,10 +119,10 @@ def run(args, comm=MPI.COMM_WORLD) -> dict:
         raise CaseError(f"{base.name}: the radial-stiffness study needs a single-pinion set")
     # the stiffness reads no root stress: on the global model, without the submodels that
     # would be most of every solve (the meshes and the solution are the same)
-    num = dataclasses.replace(base.numerics, root_stress="global")
+    base = global_root_stress(base)
     if args.contact_model is not None:
-        num = dataclasses.replace(num, contact_model=args.contact_model)
-    base = dataclasses.replace(base, numerics=num)
+        num = dataclasses.replace(base.numerics, contact_model=args.contact_model)
+        base = dataclasses.replace(base, numerics=num)
     say(f"{base.name}: contact model {base.numerics.contact_model}")
     study = with_backlash(base, args.backlash_shift) if args.backlash_shift else base
     steps = sorted(args.steps)

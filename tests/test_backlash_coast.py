@@ -20,7 +20,6 @@ import math
 
 import numpy as np
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.gearset import CaseError, load_gearset, parse_gearset
@@ -31,6 +30,7 @@ from gears.spec import GearSpec, GeometryError
 from meshing import mesh_zones, scenes
 from solvers.body_store import BodyStore
 from solvers.flank_grid import flank_contact_pairs, flank_grid
+from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 UM = 1e-3
@@ -276,7 +276,7 @@ def store():
 
 
 def _solve(study, store):
-    """One level-0 position; no test here reads the root stress (tests/global_root_stress.py)."""
+    """One level-0 position; no test here reads the root stress (studies/case_variants.py)."""
     study = global_root_stress(study)
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0, degree=1, store=store)
 

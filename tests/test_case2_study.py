@@ -16,7 +16,6 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 from statics import chain_bound, off_line_share, sun_force
 
@@ -25,6 +24,7 @@ from postprocess.case2_report import collinear_check, planetary_input, write_rep
 from postprocess.paper_report import record_wall_time, write_paper_report
 from solvers.body_store import BodyStore
 from studies import run as study_run
+from studies.case_variants import global_root_stress
 from studies.position import cycle_sector_teeth, solve_position
 from studies.progress import Progress
 
@@ -207,7 +207,7 @@ def test_sp_rp_differential_split_is_exact_on_the_line_grid():
     plane of action): the FE forces put back at their pitch points give Table 5's D, and
     Table 5 + Z terms + s terms closes the FE value, ``other`` and ``from_cells`` vanish
     (all to round-off: 1e-9 N m against 150 N m moments; measured 2e-13). The root stress
-    is read on the global model (tests/global_root_stress.py)."""
+    is read on the global model (studies/case_variants.py)."""
     case = global_root_stress(load_study_case("2B-GA"))
     case = replace(case, numerics=replace(case.numerics, contact_model="line"))
     p = solve_position(case, 0.0, MPI.COMM_SELF, level=0)

@@ -12,7 +12,6 @@ import math
 
 import numpy as np
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 from mpi_reference import serial_on_rank0
 from system_case import as_system
@@ -30,6 +29,7 @@ from meshing.carrier import (
 from meshing.scenes import build_scene, pinion_bore_radius
 from meshing.sizing import MIN_SICN, MeshingError
 from solvers.gear_train import branch_pin_errors
+from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 LOA = ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring")
@@ -160,7 +160,7 @@ def stiff_system():
 @pytest.fixture(scope="module")
 def branch_ga():
     """2B-GA in the one-branch scene; its root stress (compared with nothing here) read on
-    the global model (tests/global_root_stress.py)."""
+    the global model (studies/case_variants.py)."""
     study = global_root_stress(load_study_case("2B-GA"))
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
 

@@ -7,12 +7,12 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
-from global_root_stress import global_root_stress
 
 from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, with_fillet
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table, target
+from studies.case_variants import global_root_stress
 from studies.files import read_json, write_json
 from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded, summary_uncertainty
 

@@ -2,7 +2,7 @@
 
 P1 at mesh level 0 (about 188k DOFs, ~13 s per case serially). Each case is solved once per
 module (fixtures) and shared by the tests; no test here reads the root stress, so it is read
-on the global model (tests/global_root_stress.py: the submodels would be most of the time).
+on the global model (studies/case_variants.py: the submodels would be most of the time).
 """
 
 import dolfinx_solver  # noqa: F401 - must precede dolfinx
@@ -13,11 +13,11 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 from statics import chain_bound, gear_torque, off_line_share, sun_force
 
 from cases.study_case import load_study_case
+from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)

@@ -13,7 +13,6 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 from statics import gear_torque, mesh_records, off_line_share, sun_force
 
@@ -21,6 +20,7 @@ from cases.study_case import load_study_case
 from gears.profile import involute_deviation
 from meshing.scenes import branch_scene
 from solvers.flank_grid import flank_grid
+from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)

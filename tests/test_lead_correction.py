@@ -9,7 +9,6 @@ import tomllib
 
 import numpy as np
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.gearset import load_gearset, parse_gearset
@@ -18,6 +17,7 @@ from gears.microgeometry import FlankModifications
 from gears.spec import GeometryError
 from postprocess import lead_correction as lc
 from studies import lead_correction as study_lc
+from studies.case_variants import global_root_stress
 
 CASE1 = load_gearset("case1")
 
@@ -140,7 +140,7 @@ def test_fe_lead_correction_recentres_1gb_at_level_0():
     mid face; the slopes found bring both within the 0.5 mm asked, and the load spreads
     (K_Hbeta falls at both meshes). Measured at two positions: 4 solves, |Z| < 0.01 mm,
     K_Hbeta 2.06 -> 1.42 and 2.33 -> 1.41. The root stress, not checked here, is read on the
-    global model (tests/global_root_stress.py)."""
+    global model (studies/case_variants.py)."""
     study = global_root_stress(load_study_case("1-GB"))
     data = study_lc.correct(study, level=0, positions=1, tol=0.5,
                             fd_step=10.0, max_step=100.0, max_solves=8, crowns=None,

@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.gearset import CaseError, load_gearset, parse_gearset
@@ -26,6 +25,7 @@ from meshing import scenes
 from postprocess.train_results import mesh_stations
 from solvers.body_store import BodyStore
 from solvers.flank_grid import flank_grid
+from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 UM = 1e-3
@@ -238,7 +238,7 @@ def store():
 def _solve(name: str, gearset, store, model: str | None = None):
     """One position of case ``name`` on ``gearset``; ``model`` a contact model other than
     the case's (the default, "zone"). No test here reads the root stress
-    (tests/global_root_stress.py)."""
+    (studies/case_variants.py)."""
     import dataclasses
 
     study = global_root_stress(dataclasses.replace(load_study_case(name), gearset=gearset))

@@ -9,6 +9,8 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from studies import provenance
 from studies.provenance import PACKAGES, REPO_ROOT, code_hash, numeric_sources
 
@@ -46,6 +48,13 @@ def test_every_module_a_solve_imports_is_covered():
                          text=True, check=True, timeout=300).stdout  # fmt: skip
     loaded = set(json.loads(out.strip().splitlines()[-1]))
     assert loaded and loaded <= set(numeric_sources()), loaded - set(numeric_sources())
+
+
+def test_a_renamed_root_or_driver_is_named(monkeypatch):
+    """A root or driver that moved would drop out of the hash unseen: it stops the hash."""
+    monkeypatch.setattr(provenance, "DRIVERS", ("studies.run", "studies.moved_away"))
+    with pytest.raises(RuntimeError, match=r"'studies\.moved_away' is not found"):
+        numeric_sources()
 
 
 def test_no_import_the_closure_cannot_see():

@@ -6,13 +6,13 @@ from __future__ import annotations
 import math
 
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.study_case import load_study_case
 from gears.analytic import radial_stiffness as rs
 from postprocess import radial_stiffness_fe as rf
 from solvers.body_store import BodyStore
+from studies.case_variants import global_root_stress
 from studies.radial_stiffness import normal_backlash_um, solve_offsets, with_backlash
 
 H = 0.01  # mm, the larger step of `make radial-stiffness`
@@ -25,7 +25,7 @@ def case():
     grid's cells off the line carry turned normals and add their own share (level 0:
     -854.7 against -761.4 N/mm at the external mesh, h = 5 um; the report splits it,
     postprocess.radial_stiffness_fe.checks). The root stress is not read here: on the global
-    model (tests/global_root_stress.py)."""
+    model (studies/case_variants.py)."""
     import dataclasses
 
     study = global_root_stress(load_study_case("1-GB"))

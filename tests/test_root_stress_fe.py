@@ -8,12 +8,12 @@ import dolfinx_solver  # noqa: F401 - must precede dolfinx
 # isort: split
 
 import pytest
-from global_root_stress import global_root_stress
 from mpi4py import MPI
 
 from cases.study_case import load_study_case
 from meshing.submodel import submodel_level
 from postprocess.mesh_stress import iso_nominal_root_stress
+from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 KEYS = ("sun", "pinion_sun_side", "pinion_ring_side", "ring")

@@ -35,7 +35,7 @@ STDERR = io.StringIO()
 def runs(tmp_path_factory):
     """(study, summary, position) of 1-GA solved with the zone (the shipped case's model,
     the default) and with the line model; both read the root stress, which no test here
-    checks, on the global model instead of on submodels (tests/global_root_stress.py)."""
+    checks, on the global model instead of on submodels (studies/case_variants.py)."""
     out = tmp_path_factory.mktemp("zone_study")
     text = Path(load_study_case("1-GA").path).read_text()
     assert 'contact_model = "zone"' in text
