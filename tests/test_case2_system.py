@@ -29,18 +29,21 @@ from meshing.carrier import (
 from meshing.scenes import build_scene, pinion_bore_radius
 from meshing.sizing import MIN_SICN, MeshingError
 from solvers.gear_train import branch_pin_errors
-from studies.case_variants import global_root_stress
 from studies.position import solve_position
 
 LOA = ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring")
 # Pair 1 of the system scene on a 1000x stiffer carrier with rigid bearings against the
-# one-branch scene, relative to the largest LOA moment: measured 0.3 % (level 0: Mx_RP 97.20
-# against 97.64 N m, M_LOA_RP_ring -163.51 against -163.97). The residual is the rest of the
-# system: full sun and ring (the branch's sectors are rigid beyond their ends) carrying the
-# other two pairs' loads, the floating sun, and a carrier that is stiff, not rigid. Pairs 2
+# one-branch scene on the same coarse root fillets, relative to the largest LOA moment:
+# measured 0.06 % (level 0, 2026-11-27: Mx_RP 97.63 N m per unit share against 97.55,
+# M_LOA_RP_ring -163.48 against -163.39). The residual is the rest of the system: full sun
+# and ring (the branch's sectors are rigid beyond their ends) carrying the other two pairs'
+# loads, the floating sun, and a carrier that is stiff, not rigid. With the branch's
+# fillets refined for the root stress (as before) it was 0.40 %: the fillets' compliance,
+# not the system. 0.3 % leaves 5x the measured residual and still catches an error of the
+# size of that fillet effect (before, 1 % could not). Pairs 2
 # and 3 differ from pair 1 by up to 10 N m because they sit at other mesh phases (Zs / 3 =
 # 11 2/3 teeth apart), so only pair 1 (the branch scene's phase at roll 0) is compared.
-PAIR_TOL = 0.01
+PAIR_TOL = 0.003
 MOMENTS = ("Mx_SP", "My_SP", "Mx_RP", "My_RP", *LOA)
 
 
@@ -159,9 +162,13 @@ def stiff_system():
 
 @pytest.fixture(scope="module")
 def branch_ga():
-    """2B-GA in the one-branch scene; its root stress (compared with nothing here) read on
-    the global model (studies/case_variants.py)."""
-    study = global_root_stress(load_study_case("2B-GA"))
+    """2B-GA in the one-branch scene on the system scene's coarse root fillets (the reference
+    ``make case2-system`` compares with): the same fillet sizes on both sides of the
+    comparison, and no fillets refined for a root stress compared with nothing here."""
+    study = load_study_case("2B-GA")
+    study = dataclasses.replace(
+        study, numerics=dataclasses.replace(study.numerics, root_fillets="coarse")
+    )
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
 
 

@@ -27,6 +27,7 @@ from solvers.root_submodel import (
     cut_names,
     sector_loads,
     sector_teeth,
+    submodel_root_stress,
     tooth_run,
 )
 from studies.position import cycle_sector_teeth, roll_angles, study_scene
@@ -221,6 +222,30 @@ def test_sector_teeth_are_the_grid_teeth_of_the_model(solved, scene):
     got = sector_teeth(scene, load_study_case("1-GA"), sizing.check_level(0).fine)
     assert got == {k: len(v) for k, v in loaded_teeth(model).items()}
     assert set(got) == {"sun", "pinion_sun_side", "pinion_ring_side", "ring"}
+
+
+def test_a_sector_larger_than_half_the_gear_falls_back_to_the_loaded_teeth(solved, scene):
+    """The sector sizes a study passes (the cycle's most loaded teeth) on the FE model: a key
+    given one tooth more than its loaded run is read on a sector one tooth longer; a key
+    given more than :func:`meshing.submodel.max_read_teeth`, and a key given none, on its
+    loaded run alone (a sector of more than half the gear would leave no room for the cut;
+    the fallback must neither raise nor read a wrong run). Every key still reads a value."""
+    model, res = solved
+    runs = {k: tooth_run(k, ts, scene.gear(b).gear.teeth)[1]
+            for k, ts in loaded_teeth(model).items()
+            for b in [{"sun": "sun", "ring": "ring"}.get(k, "pinion")]}  # fmt: skip
+    pinion = scene.gear("pinion").gear
+    sector = {"sun": runs["sun"] + 1, "pinion_sun_side": max_read_teeth(pinion) + 1}
+    bs = submodel_root_stress(model, res, 0, sector=sector)
+    got = bs["locations"]
+    margin = 2 * SUBMODEL_MARGIN
+    assert got["sun"]["submodel"]["teeth"] == runs["sun"] + 1 + margin
+    assert got["pinion_sun_side"]["submodel"]["teeth"] == runs["pinion_sun_side"] + margin
+    for key in ("pinion_ring_side", "ring"):  # no entry: the loaded run
+        assert got[key]["submodel"]["teeth"] == runs[key] + margin
+    for key, loc in got.items():
+        assert loc["submodel"]["load_N"] > 1e3, key  # the mesh load reached the sector
+        assert bs[key] > 0.0, key
 
 
 def test_cycle_sector_holds_every_position_of_the_cycle():
