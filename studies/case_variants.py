@@ -13,3 +13,11 @@ def global_root_stress(study):
     most of a level-1 position's time. For the studies and tests that read no root stress."""
     numerics = dataclasses.replace(study.numerics, root_stress="global")
     return dataclasses.replace(study, numerics=numerics)
+
+
+def coarse_root_fillets(study):
+    """``study`` with ``numerics.root_fillets = "coarse"``: no fillet refined for a root
+    stress, as in the system scene (finer fillets make the teeth more compliant: 0.4 % of
+    2B-GA's LOA moments at level 0). For comparisons with the system scene."""
+    numerics = dataclasses.replace(study.numerics, root_fillets="coarse")
+    return dataclasses.replace(study, numerics=numerics)

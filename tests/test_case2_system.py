@@ -29,6 +29,7 @@ from meshing.carrier import (
 from meshing.scenes import build_scene, pinion_bore_radius
 from meshing.sizing import MIN_SICN, MeshingError
 from solvers.gear_train import branch_pin_errors
+from studies.case_variants import coarse_root_fillets
 from studies.position import solve_position
 
 LOA = ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring")
@@ -165,11 +166,9 @@ def branch_ga():
     """2B-GA in the one-branch scene on the system scene's coarse root fillets (the reference
     ``make case2-system`` compares with): the same fillet sizes on both sides of the
     comparison, and no fillets refined for a root stress compared with nothing here."""
-    study = load_study_case("2B-GA")
-    study = dataclasses.replace(
-        study, numerics=dataclasses.replace(study.numerics, root_fillets="coarse")
+    return solve_position(
+        coarse_root_fillets(load_study_case("2B-GA")), 0.0, MPI.COMM_SELF, level=0
     )
-    return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
 
 
 def test_case2_system_torque_balance_and_load_shares(stiff_system):

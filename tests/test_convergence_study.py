@@ -12,7 +12,7 @@ from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, with_fillet
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table, target
-from studies.case_variants import global_root_stress
+from studies.case_variants import coarse_root_fillets, global_root_stress
 from studies.files import read_json, write_json
 from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded, summary_uncertainty
 
@@ -149,8 +149,10 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
     line = replace(ga, numerics=replace(ga.numerics, contact_model="line"))
     assert summary_uncertainty(line, 1, 1, tmp_path, records=None)["uncertainty"] is None
     # nor a run on coarse root fillets (more compliant teeth: another model)
-    coarse = replace(ga, numerics=replace(ga.numerics, root_fillets="coarse"))
-    assert summary_uncertainty(coarse, 1, 1, tmp_path, records=None)["uncertainty"] is None
+    assert (
+        summary_uncertainty(coarse_root_fillets(ga), 1, 1, tmp_path, records=None)["uncertainty"]
+        is None
+    )
 
 
 def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):

@@ -20,7 +20,7 @@ from meshing.scene_bodies import load_body_meshes
 from meshing.sizing import MeshingError
 from meshing.submodel import SUBMODEL_MARGIN, max_read_teeth, sector_turn, submodel_body
 from solvers.gear_train import build_gear_train
-from solvers.root_stress import body_root_stress, loaded_teeth
+from solvers.root_stress import body_root_stress, loaded_fillets, loaded_teeth
 from solvers.root_submodel import (
     SubmodelBody,
     SubmodelError,
@@ -231,9 +231,9 @@ def test_a_sector_larger_than_half_the_gear_falls_back_to_the_loaded_teeth(solve
     loaded run alone (a sector of more than half the gear would leave no room for the cut;
     the fallback must neither raise nor read a wrong run). Every key still reads a value."""
     model, res = solved
-    runs = {k: tooth_run(k, ts, scene.gear(b).gear.teeth)[1]
-            for k, ts in loaded_teeth(model).items()
-            for b in [{"sun": "sun", "ring": "ring"}.get(k, "pinion")]}  # fmt: skip
+    body = {key: b for key, b, _, _ in loaded_fillets(scene)}
+    runs = {k: tooth_run(k, ts, scene.gear(body[k]).gear.teeth)[1]
+            for k, ts in loaded_teeth(model).items()}  # fmt: skip
     pinion = scene.gear("pinion").gear
     sector = {"sun": runs["sun"] + 1, "pinion_sun_side": max_read_teeth(pinion) + 1}
     bs = submodel_root_stress(model, res, 0, sector=sector)

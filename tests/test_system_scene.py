@@ -9,7 +9,6 @@ import dolfinx_solver  # noqa: F401 - must precede dolfinx
 
 # isort: split
 import math
-from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -19,6 +18,7 @@ from system_case import as_system
 
 from cases.study_case import load_study_case
 from solvers.body_store import BodyStore
+from studies.case_variants import coarse_root_fillets
 from studies.position import solve_position
 
 MOMENTS = ("Mx_pin", "My_pin", "Mz_pin", "M_LOA_sun", "M_LOA_ring")
@@ -36,9 +36,7 @@ def stiff_system():
 def branch_ga():
     """1-GA in the one-branch scene with the system scene's coarse root fillets (like with
     like: finer fillets make the teeth more compliant)."""
-    study = load_study_case("1-GA")
-    study = replace(study, numerics=replace(study.numerics, root_fillets="coarse"))
-    return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
+    return solve_position(coarse_root_fillets(load_study_case("1-GA")), 0.0, MPI.COMM_SELF, level=0)
 
 
 def test_root_stress_is_read_only_on_refined_fillets(stiff_system, branch_ga):
