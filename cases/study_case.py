@@ -45,15 +45,18 @@ CONTACT_MODELS = ("line", "zone")
 ZONE_GAP_RANGE = (1.0, 500.0)  # um, inclusive
 # the body solvers of solvers.elastic_body.LinearSolver (a test checks the two agree)
 LINEAR_SOLVERS = ("mumps", "mumps-blr", "cg-gamg")
-# Which root fillets a scene refines to the level's fillet size (meshing.sizing.Level):
-# "auto" = "refined" in the one-branch scene, where the root stress is read, "coarse" in the
+# Which root fillets of the global model a scene refines to the level's fillet size
+# (meshing.sizing.Level): "auto" = "refined" in the one-branch scene, "coarse" in the
 # all-planet and system scenes (refining every planet's loaded fillets would double their
-# DOFs); "coarse" = every fillet at fillet_far, and no root stress is reported.
+# DOFs); "coarse" = every fillet at fillet_far. Finer fillets make the teeth more compliant
+# (the moments move by 1-3 %); the submodels read the root stress on either.
 ROOT_FILLETS = ("auto", "refined", "coarse")
-# How the root stress is read where the scene reads it (solvers.root_submodel): "submodel" =
-# on a P2 submodel of the loaded teeth with finer fillets, driven by the global solution;
-# "global" = on the global model's own fillets (P1 there is not converged: a check only).
-ROOT_STRESS_METHODS = ("submodel", "global")
+# How the root stress is read (solvers.root_submodel): "submodel" = on a P2 submodel of the
+# loaded teeth with finer fillets, driven by the global solution, in every scene (with
+# several planets, on the most loaded mesh of each gear and side); "global" = on the global
+# model's own fillets where the scene refines them (P1 there is not converged: a check
+# only); "none" = not read (studies of moments or stiffness alone).
+ROOT_STRESS_METHODS = ("submodel", "global", "none")
 LINEAR_TOLERANCE_RANGE = (1e-14, 1e-3)  # inclusive; BLR threshold or CG relative residual
 
 

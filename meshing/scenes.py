@@ -380,7 +380,7 @@ def planetary_scene(
     in the cycle (:func:`tension_fillets`, union over the sampled angles and ``roll``), not only
     at ``roll``: a per-position set would change the body meshes from one position to the
     next; the other fillets of the refined teeth get ``fillet_far``. ``fine_fillets`` False
-    names none (every fillet at ``fillet_far``; :func:`reads_root_stress` is then False);
+    names none (every fillet at ``fillet_far``; :func:`refines_root_fillets` is then False);
     None: True for one branch, False with all planets, where the loaded fillets of every
     planet at 0.15 mm (level 1) would about double the DOFs (numerics.root_fillets).
 
@@ -550,9 +550,9 @@ def _assemble_scene(
     # Bodies: sectors / full, refined teeth, fine fillets (the cycle's and this position's
     # tension fillets: the same set at every position of a cycle).
     here = tension_fillets(zones_done) if fine is not None else {}
-    if fine is None:  # no fine fillets: every fillet at fillet_far, no root stress read
+    if fine is None:  # no fine fillets: every fillet at fillet_far
         fine = {}
-        notes = (*notes, "root fillets coarse (fillet_far): no root stress read in this scene")
+        notes = (*notes, "root fillets coarse (fillet_far): the root stress only on submodels")
     placed = [
         _finish_gear(g, sorted(contact[g.name]), cover.get(g.name, set()), full[g.name],
                      radius_kw[g.name], fine.get(g.name, set()) | here.get(g.name, set()))
@@ -574,9 +574,10 @@ def _assemble_scene(
     )
 
 
-def reads_root_stress(scene) -> bool:
-    """Whether ``scene`` refines fillets to read the root stress on (some body names fine
-    fillets, :func:`planetary_scene`)."""
+def refines_root_fillets(scene) -> bool:
+    """Whether ``scene`` refines root fillets of the global model (some body names fine
+    fillets, :func:`planetary_scene`): where the global model's own root stress is read
+    (``numerics.root_stress = "global"``, and the check beside a submodel's)."""
     return any(g.body.fine_fillets for g in scene.gears)
 
 

@@ -90,18 +90,19 @@ def cycle_bending(records: list[dict]) -> dict:
     submodels (:mod:`solvers.root_submodel`) also of the global model's own surface value
     (``bending_stress_global``, a check), the method in words (``bending_stress_method``),
     and where the surface maximum sits (``bending_stress_at``: position index, roll, tooth,
-    side, z); scenes with several planets also ``bending_stress_set``, the largest surface
-    value per gear-set key (the keys of ISO's nominal stress). An entry missing at a
-    position (no fillet) is left out of its maximum; None where no position has it
-    (:mod:`solvers.root_stress`)."""
+    side, z); scenes with several planets also ``bending_stress_set`` and
+    ``bending_stress_tangent_set``, the largest value per gear-set key (the keys of ISO's
+    nominal stress), and ``bending_stress_set_key``, the output key the surface one is of.
+    An entry missing at a position (no fillet, or a planet's mesh not read) is left out of
+    its maximum; None where no position has it (:mod:`solvers.root_stress`)."""
     recs = [(j, r) for j, r in enumerate(records) if r.get("bending_stress")]
     out: dict = {"bending_stress": None, "bending_stress_tangent": None,
                  "bending_stress_cell": None, "bending_stress_face_end": None,
                  "bending_stress_near_load": None, "bending_stress_at": None}  # fmt: skip
     if not recs:
         out["bending_stress_note"] = (
-            "not read: the scene's root fillets are coarse (numerics.root_fillets; the "
-            "one-branch scene refines them)")  # fmt: skip
+            "not read (numerics.root_stress 'none', or 'global' on coarse root fillets)"
+        )
         return out
     keys = [k for k, v in recs[0][1]["bending_stress"].items() if not isinstance(v, (dict, str))]
 
@@ -134,11 +135,14 @@ def cycle_bending(records: list[dict]) -> dict:
     locs = recs[0][1]["bending_stress"].get("locations") or {}
     to_set = {k: (locs.get(k) or {}).get("set_key", k) for k in keys}
     if any(k != v for k, v in to_set.items()):  # several planets: the largest per gear-set key
-        by_set: dict = {}
-        for k, v in out["bending_stress"].items():
-            if v is not None:
-                by_set[to_set[k]] = max(by_set.get(to_set[k], v), v)
-        out["bending_stress_set"] = by_set
+        for name in ("bending_stress", "bending_stress_tangent"):
+            by_set: dict = {}
+            for k, v in out[name].items():
+                if v is not None and (to_set[k] not in by_set or v > by_set[to_set[k]][0]):
+                    by_set[to_set[k]] = (v, k)
+            out[f"{name}_set"] = {s: v for s, (v, _) in by_set.items()}
+            if name == "bending_stress":
+                out["bending_stress_set_key"] = {s: k for s, (_, k) in by_set.items()}
     return out
 
 
@@ -254,6 +258,8 @@ def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
             summary["analytic"] = double_pinion_reference(study, solved)
             summary.update(double_pinion_means(solved))
         summary["dofs"] = solved[0]["dofs"]
+        # the global model's root fillets, as the scene meshed them (numerics.root_fillets)
+        summary["root_fillets"] = solved[0].get("root_fillets")
         # zone model: the largest clipped share of the FE body correction (contact.py eq. (6))
         clipped = [c for p in solved if (c := p["timings"].get("correction_clipped")) is not None]
         zone = study.numerics.contact_model == "zone"

@@ -7,7 +7,8 @@ sun's float, the carrier's wind-up, the torque balance), the comparison of the c
 separates gear stiffness from bearing stiffness (1-GB-R against 1-GC in the paper), and the
 loaded-scene pictures. Single-pinion sets report section 3's pinion moments; double-pinion
 sets (:data:`KIND_QUANTITIES`) section 5's SP and RP moments and the four LOA moments, per pair
-too, the carrier's six-pin layout and what the elastic carrier changes against the branch.
+too, the carrier's six-pin layout and what the elastic carrier changes against the branch;
+both kinds the root stress of every gear in both scenes.
 Numbers come from the summaries alone, inputs included.
 """
 
@@ -63,9 +64,11 @@ def _inputs(s: dict) -> str:
 
 
 def root_fillets(s: dict) -> str:
-    """The root fillets ("refined" or "coarse") a summary's scene was meshed with, from what
-    the run recorded: a scene reads the root stress only on refined fillets
-    (:func:`meshing.scenes.reads_root_stress`), so a summary with a root stress had them."""
+    """The root fillets ("refined" or "coarse") of the global model a summary's scene was
+    meshed with, as the run recorded them (``root_fillets``); a summary written before that
+    field: from its root stress, which the scenes then read only on refined fillets."""
+    if s.get("root_fillets") in ("refined", "coarse"):
+        return s["root_fillets"]
     return "refined" if s.get("bending_stress") else "coarse"
 
 
@@ -82,11 +85,60 @@ def _fillet_note(branch: dict, system: dict) -> str:
             "comparison then mixes into the carrier's effect. Run the branch with "
             "`--root-fillets coarse` (`make case1-system` does)."
         )
+    coarse = used == ["coarse"]
     return (
         f"Both scenes ran with {used[0] if len(used) == 1 else ' and '.join(used)} root "
-        "fillets (every fillet at the level's fillet_far size, no root stress read), so "
-        "the differences below are the system's, not the fillets' (numerics.root_fillets)."
-    )
+        "fillets" + (" (every fillet of the global model at the level's fillet_far size)"
+                     if coarse else "") + ", so the differences below are the system's, "
+        "not the fillets' (numerics.root_fillets)."
+    )  # fmt: skip
+
+
+def _set_stress(s: dict, name: str) -> tuple[dict, dict]:
+    """Per gear-set key (``sun``, ``pinion_sun_side``, ...) the cycle maximum of root-stress
+    quantity ``name`` (``bending_stress`` or ``bending_stress_tangent``) and the output key it
+    was read on: a scene with several planets holds them per gear set
+    (:func:`postprocess.summary.cycle_bending`), a one-branch scene per key."""
+    if s.get(f"{name}_set") is not None:
+        return s[f"{name}_set"], s.get("bending_stress_set_key") or {}
+    vals = {k: v for k, v in (s.get(name) or {}).items() if isinstance(v, (int, float))}
+    return vals, {k: k for k in vals}
+
+
+def _root_stress_text(branch: dict, system: dict) -> list[str]:
+    """Root stress of each case's gears, branch against system (cycle maxima, MPa)."""
+    rows = []
+    for name, sy in system.items():
+        br = branch.get(name) or {}
+        sv, sk = _set_stress(sy, "bending_stress")
+        st, _ = _set_stress(sy, "bending_stress_tangent")
+        bv, _ = _set_stress(br, "bending_stress")
+        bt, _ = _set_stress(br, "bending_stress_tangent")
+        for key in sv:
+            b, v = bv.get(key), sv[key]
+            ratio = f"{v / b:.3f}" if b else "-"
+            line = f"{_num(bt.get(key))} / {_num(st.get(key))}"
+            rows.append(f"| {name} | {key} | {_num(b)} | {_num(v)} ({sk.get(key, '-')}) | "
+                        f"{ratio} | {line} |")  # fmt: skip
+    if not rows:
+        why = "numerics.root_stress 'none', or 'global' on its coarse root fillets"
+        return ["", "## Root stress", "", f"Not read in the system scene ({why})."]
+    return [
+        "", "## Root stress: branch against system", "",
+        "FE root stress at the fillet surface, the maximum over the mesh cycle (MPa), read in",
+        "both scenes on P2 submodels of the loaded teeth driven by the scene's own solution",
+        "(`solvers.root_submodel`); in the system scene on the most loaded mesh of each gear",
+        "and side at each position (the key read in brackets: the other planets' meshes of",
+        "that gear carry less load). Last column: the value on ISO 6336-3's 30 deg (ring:",
+        "60 deg) line, branch / system.", "",
+        "| case | gear | branch | system (read on) | system / branch | ISO line: branch / system |",
+        "|---|---|---|---|---|---|",
+        *rows,
+    ]  # fmt: skip
+
+
+def _num(v) -> str:
+    return "-" if v is None else f"{v:.0f}"
 
 
 def _per_pair(system: dict, quantities) -> list[str]:
@@ -235,6 +287,7 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
             f"{s.get('torque_balance_rel', float('nan')):.1e} |"
         )
     lines += ["", *_spacing_text(next(iter(system.values())))]
+    lines += _root_stress_text(branch, system)
     if kind == "double_pinion":
         lines += _per_pair(system, quantities)
         lines += _double_pinion_text(branch, system)

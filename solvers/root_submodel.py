@@ -68,6 +68,7 @@ from solvers.root_stress import (
     grid_teeth,
     loaded_fillets,
     loaded_teeth,
+    set_keys,
 )
 
 #: solvers of the submodel: "cg-gamg" (CG + smoothed-aggregation AMG, no factor in memory;
@@ -296,6 +297,27 @@ def sector_teeth(scene, study, spacing: float, width=None, micro=None) -> dict[s
     return {key: len(ts) for key, ts in grid_teeth(scene, grids).items()}
 
 
+def most_loaded(set_key: dict[str, str], load_n: dict[str, float]) -> set[str]:
+    """The output keys read on submodels: per gear and side of the gear set (``set_key``:
+    output key -> gear-set key, :func:`solvers.root_stress.set_keys`) the one whose sector
+    carries the largest contact load (``load_n``, N; the first of equal ones). With one
+    planet every key is its own gear-set key and every key is read; with several, the
+    planets' meshes of one gear differ only in their share of the load (the floating sun's
+    K_gamma, pin-hole errors) and the mesh phase, and the most loaded one bounds the others'
+    root stress at the same phase."""
+    best: dict[str, str] = {}
+    for k in load_n:
+        s = set_key.get(k, k)
+        if s not in best or load_n[k] > load_n[best[s]]:
+            best[s] = k
+    return set(best.values())
+
+
+def read_for(key: str, set_key: dict[str, str], read: set[str]) -> str:
+    """The read key that stands for ``key`` (the same gear-set key)."""
+    return next(k for k in sorted(read) if set_key.get(k, k) == set_key.get(key, key))
+
+
 def submodel_root_stress(model, result, level, store: BodyStore | None = None,
                          degree: int = SUBMODEL_DEGREE,
                          sector: dict[str, int] | None = None) -> dict:  # fmt: skip
@@ -310,22 +332,38 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
     key the read teeth of its sector (at least the loaded teeth: the most of the mesh cycle,
     :func:`sector_teeth`, so one sector serves every position; default, or where that sector
     would exceed half the gear, the loaded teeth), the extra ones beyond the last loaded
-    tooth and not read. Collective."""
+    tooth and not read. With several planets only the most loaded mesh of each gear and side
+    is read (:func:`most_loaded`); every other key's value is None, its ``locations`` entry
+    naming the key read instead (``read_instead``) and its load. Collective."""
     store = BodyStore() if store is None else store
     p, scene = model.problem, model.scene
     teeth = loaded_teeth(model)
     zones = {f"{zn.driver}-{zn.driven}": zn for zn in scene.zones}
     lv = submodel_level(level)
-    recs = {}
+    runs = {}  # key -> (body, side, gear, first loaded tooth, read teeth, loads on the sector)
     for key, body, grid, which in loaded_fillets(scene):
         zn = zones[grid]
         side = zn.driver_side if which == "driver_tooth" else zn.driven_side
         gear = scene.gear(body).gear
-        z = gear.teeth
-        first, n = tooth_run(key, teeth[key], z)
+        first, n = tooth_run(key, teeth[key], gear.teeth)
         most = (sector or {}).get(key, 0)
         if n < most <= max_read_teeth(gear):  # else: the loaded teeth
             n = most
+        start = first - SUBMODEL_MARGIN
+        loads = sector_loads(p, result, body, gear, start, n + 2 * SUBMODEL_MARGIN)
+        runs[key] = (body, side, gear, first, n, loads)
+    load_n = {k: float(np.linalg.norm(r[5][1].sum(axis=0))) for k, r in runs.items()}
+    to_set = set_keys(scene)
+    # every rank solves the same sectors (a collective each): rank 0's choice
+    read = p.comm.bcast(most_loaded(to_set, load_n), root=0)
+    recs = {}
+    for key, (body, side, gear, first, n, loads) in runs.items():
+        if key not in read:
+            recs[key] = {"value": None, "tangent": None, "cell_max": None, "face_end": None,
+                         "teeth": list(teeth[key]), "load_N": load_n[key],
+                         "read_instead": read_for(key, to_set, read)}  # fmt: skip
+            continue
+        z = gear.teeth
         try:
             sb = submodel_body(scene.gear(body).body, n, side)
         except ValueError as exc:
@@ -345,7 +383,6 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         sub = store.keep(skey, make)
         t0 = time.perf_counter()
         start = first - SUBMODEL_MARGIN
-        loads = sector_loads(p, result, body, gear, start, n + 2 * SUBMODEL_MARGIN)
         angle = sector_turn(gear, first)
         u = sub.solve(gb, gb.function(result.displacements[body]), loads, angle)
         t_read = time.perf_counter()
@@ -356,10 +393,11 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
             if rec[k] is not None:
                 rec[k] = int((rec[k] + start) % z)
         rec["teeth"] = list(teeth[key])
+        rec["load_N"] = load_n[key]
         rec["submodel"] = {
             "dofs": sub.dofs, "fillet_mm": lv.fillet, "degree": degree,
             "first_tooth": int(start % z), "teeth": n + 2 * SUBMODEL_MARGIN,
-            "load_N": float(np.linalg.norm(loads[1].sum(axis=0))),
+            "load_N": load_n[key],
             "setup_s": sub.timings["factorize"], "set_up_here": store.built > built,
             "solve_s": time.perf_counter() - t0, "iterations": sub.iterations,
             **sub.solve_timings, "read_s": time.perf_counter() - t_read,
@@ -377,6 +415,7 @@ __all__ = [
     "SubmodelError",
     "cut_names",
     "field_at",
+    "most_loaded",
     "sector_loads",
     "sector_teeth",
     "sector_turn",

@@ -23,7 +23,7 @@ import numpy as np
 
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
-from meshing.scenes import build_scene, cycle_angles, reads_root_stress
+from meshing.scenes import build_scene, cycle_angles, refines_root_fillets
 from meshing.submodel import submodel_level
 from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
@@ -140,26 +140,30 @@ def solve_position(
     if not store.reuse:  # no later position takes the factors: free them before the submodels
         for body in model.problem.bodies.values():
             body.release()
-    # the root stress only where the scene refines the fillets it is read on; on submodels of
-    # the loaded teeth (numerics.root_stress), the global model's own values kept as a check
+    # the root stress (numerics.root_stress): on submodels of the loaded teeth, driven by the
+    # global solution whatever its fillets (the global model's own values kept as a check
+    # where it refines them), or on the global model's fillets where it refines them
     out["bending_stress"] = None
+    refined = refines_root_fillets(scene)
+    out["root_fillets"] = "refined" if refined else "coarse"
     # one sector size per key over the mesh cycle (none with a micro-geometry callable,
     # which the memo cannot key: then each position's loaded teeth)
     sector = None
-    if reads_root_stress(scene) and num.root_stress == "submodel" and micro is None:
+    if num.root_stress == "submodel" and micro is None:
         sector = cycle_sector_teeth(study, roll, spacing, width, scene_options)
-    if reads_root_stress(scene):
-        bs = root_stress(model, result)
-        if num.root_stress == "submodel":
-            sub = submodel_root_stress(model, result, level, store, sector=sector)
-            sub["global"] = {k: bs[k] for k in sub["locations"]}
-            bs = sub
+    if num.root_stress == "submodel":
+        bs = submodel_root_stress(model, result, level, store, sector=sector)
+        if refined:  # the global model's own value beside it, a check
+            check = root_stress(model, result)
+            bs["global"] = {k: check[k] for k in bs["locations"]}
         out["bending_stress"] = bs
+    elif num.root_stress == "global" and refined:
+        out["bending_stress"] = root_stress(model, result)
     t_post = time.perf_counter()
     # the submodel ladder: timed apart (and the memory peak before it kept), so a run's wall
     # time and memory stay those of the run alone
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-    if submodel_levels and reads_root_stress(scene):
+    if submodel_levels:
         if num.root_stress != "submodel":
             raise ValueError("submodel_levels needs numerics.root_stress = 'submodel'")
         out["bending_stress_fillets"] = {

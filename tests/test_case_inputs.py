@@ -157,7 +157,7 @@ def test_numerics_values_are_read():
         (
             "root_stress",
             "fine",
-            r"numerics\.root_stress = 'fine': must be one of 'submodel', 'global'",
+            r"numerics\.root_stress = 'fine': must be one of 'submodel', 'global', 'none'",
         ),
     ],
 )

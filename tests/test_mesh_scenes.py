@@ -187,16 +187,16 @@ def test_planets_in_phase_get_the_same_bodies_up_to_labels():
     [("one_branch", None, True), ("all_planets", None, False), ("system", None, False),
      ("one_branch", False, False), ("all_planets", True, True)],
 )  # fmt: skip
-def test_scenes_refine_the_root_fillets_where_root_stress_is_read(kind, option, refined):
-    """One branch names the cycle's tension fillets (the root stress is read there); the
-    all-planet and system scenes name none by default (every fillet at fillet_far, no root
-    stress; numerics.root_fillets), and say so in their notes. Same teeth refined either
-    way: only the fillets differ."""
+def test_scenes_refine_the_root_fillets_of_the_global_model(kind, option, refined):
+    """One branch names the cycle's tension fillets; the all-planet and system scenes name
+    none by default (every fillet at fillet_far: the root stress read on submodels only;
+    numerics.root_fillets), and say so in their notes. Same teeth refined either way: only
+    the fillets differ."""
     sc = scenes.build_scene(kind, CASE1, 0.0, fine_fillets=option)
-    assert scenes.reads_root_stress(sc) is refined
+    assert scenes.refines_root_fillets(sc) is refined
     fine = [g.body.fine_fillets for g in sc.gears]
     assert all(f == () for f in fine) is (not refined)
-    assert any("no root stress read" in n for n in sc.notes) is (not refined)
+    assert any("root stress only on submodels" in n for n in sc.notes) is (not refined)
     other = scenes.build_scene(kind, CASE1, 0.0, fine_fillets=not refined)
     assert [g.active_teeth for g in other.gears] == [g.active_teeth for g in sc.gears]
 

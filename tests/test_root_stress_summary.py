@@ -7,6 +7,7 @@ from cases.study_case import load_study_case
 from postprocess.mesh_stress import iso_root_stress_factors
 from postprocess.stress_tables import contact_section, root_section
 from postprocess.summary import cycle_bending
+from solvers.root_submodel import most_loaded, read_for
 
 
 def _pos(roll, sun, ring, tan, cell, set_keys=None):
@@ -37,6 +38,32 @@ def test_planets_are_reduced_to_gear_set_keys():
     keys = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun"}
     recs = [_pos(0.0, 500.0, 530.0, (1, 1), (1, 1), keys)]
     assert cycle_bending(recs)["bending_stress_set"] == {"sun": 530.0}
+
+
+def test_the_most_loaded_planet_is_read_and_stands_for_its_gear():
+    """The system scene reads one planet mesh per gear and side at each position (the most
+    loaded, solvers.root_submodel.most_loaded), the others None: the set's value is the
+    largest over the positions of whichever planet was read, and names it."""
+    keys = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun"}
+    recs = [_pos(0.0, None, 530.0, (None, 510.0), (None, 1), keys),
+            _pos(0.1, 545.0, None, (520.0, None), (1, None), keys)]  # fmt: skip
+    out = cycle_bending(recs)
+    assert out["bending_stress_set"] == {"sun": 545.0}
+    assert out["bending_stress_tangent_set"] == {"sun": 520.0}
+    assert out["bending_stress_set_key"] == {"sun": "sun_pinion1_side"}
+    assert out["bending_stress"] == {"sun_pinion1_side": 545.0, "sun_pinion2_side": 530.0}
+
+
+def test_most_loaded_reads_one_key_per_gear_set_key():
+    to_set = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun", "sun_pinion3_side": "sun",
+              "ring_pinion1_side": "ring", "ring_pinion2_side": "ring"}  # fmt: skip
+    load = {"sun_pinion1_side": 9.0, "sun_pinion2_side": 10.0, "sun_pinion3_side": 10.0,
+            "ring_pinion1_side": 7.0, "ring_pinion2_side": 6.0}  # fmt: skip
+    read = most_loaded(to_set, load)
+    assert read == {"sun_pinion2_side", "ring_pinion1_side"}  # a tie: the first one
+    assert read_for("sun_pinion3_side", to_set, read) == "sun_pinion2_side"
+    # one branch: every key is its own gear-set key, and every key is read
+    assert most_loaded({"sun": "sun", "ring": "ring"}, {"sun": 1.0, "ring": 0.0}) == {"sun", "ring"}
 
 
 def test_report_sections_print_fe_beside_iso():
