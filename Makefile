@@ -100,8 +100,9 @@ case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/
 	$(PY) -m studies.system_report --branch $(RESULTS)/case1-system/branch \
 	  --system $(RESULTS)/case1-system --cases $(CASE1) --pair 1-GB-R 1-GC
 
-# The system scenes keep every root fillet coarse (numerics.root_fillets "auto"); their
-# branch reference runs the one-branch scene the same way, so the comparison is like with like.
+# The system scenes keep every root fillet coarse (numerics.root_fillets "auto") and read the
+# root stress on the submodels of each gear's most loaded mesh; their branch reference runs
+# the one-branch scene on the same coarse fillets, so the comparison is like with like.
 # Case 2 in the system scene: sun, the three SP-RP pairs, ring and the carrier with six pins
 # (an SP and an RP pin per pair), each pinion on its bearing to its own pin. At the case files'
 # level 1 (1.0M DOFs, coarse root fillets): 8.8 min serial with the branch reference, peak

@@ -54,6 +54,36 @@ def mesh_key(mesh: str) -> str:
     return mesh.replace("-", "_")
 
 
+def set_mesh(mesh: str, gears) -> str:
+    """The gear set's mesh of a scene's mesh grid name: a planet body is its gear's name and
+    its index (``sun-pinion2`` -> ``sun_pinion``, :func:`meshing.scenes.planetary_scene`)."""
+
+    def gear(body: str) -> str:
+        return next((g for g in gears if body == g or (body.startswith(g)
+                     and body[len(g):].isdigit())), body)  # fmt: skip
+
+    return "_".join(gear(b) for b in mesh.split("-"))
+
+
+#: the contact stresses of :func:`contact_stress_cycle` reduced over the planets' meshes
+CYCLE_SET_QUANTITIES = ("interior_p_max_MPa", "sigma_H_MPa", "w_max_N_per_mm")
+
+
+def cycle_set(cycle: dict, gears) -> dict:
+    """Per mesh of the gear set the largest of :data:`CYCLE_SET_QUANTITIES` over the planets'
+    meshes (``cycle``: per mesh grid name, :func:`postprocess.mesh_stress.
+    contact_stress_cycle`), and the mesh (summary key) of the largest interior pressure."""
+    out: dict = {}
+    for m, v in cycle.items():
+        rec = out.setdefault(set_mesh(m, gears), {"mesh": None})
+        for q in CYCLE_SET_QUANTITIES:
+            if v.get(q) is not None and (rec.get(q) is None or v[q] > rec[q]):
+                rec[q] = v[q]
+                if q == CYCLE_SET_QUANTITIES[0]:
+                    rec["mesh"] = mesh_key(m)
+    return out
+
+
 def position_record(study, pos: dict) -> dict:
     """What summary.json keeps of one position (scalars, per-mesh contact stress)."""
     hz = contact_stress_at_points(study.gearset, study.material, pos)
@@ -253,6 +283,8 @@ def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
             }
         cycle = contact_stress_cycle(study.gearset, study.material, solved)
         summary["contact_stress_cycle"] = {mesh_key(m): v for m, v in cycle.items()}
+        if "branches" in solved[0]:  # several planets: the largest per mesh of the gear set
+            summary["contact_stress_cycle_set"] = cycle_set(cycle, study.gearset.power_path)
         summary["analytic"] = analytic_reference(study, summary)
         if study.gearset.kind == "double_pinion":
             summary["analytic"] = double_pinion_reference(study, solved)

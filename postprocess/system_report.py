@@ -137,6 +137,37 @@ def _root_stress_text(branch: dict, system: dict) -> list[str]:
     ]  # fmt: skip
 
 
+def _contact_stress_text(branch: dict, system: dict) -> list[str]:
+    """Contact stress of each mesh of the gear set, branch against system (cycle maxima)."""
+    rows = []
+    for name, sy in system.items():
+        per_set = sy.get("contact_stress_cycle_set") or {}
+        br = (branch.get(name) or {}).get("contact_stress_cycle") or {}
+        for mesh, v in per_set.items():
+            b = br.get(mesh) or {}
+            p_b, p_s = b.get("interior_p_max_MPa"), v.get("interior_p_max_MPa")
+            ratio = f"{p_s / p_b:.3f}" if p_b and p_s else "-"
+            rows.append(
+                f"| {name} | {mesh} | {_num(p_b)} | {_num(p_s)} ({v.get('mesh') or '-'}) | "
+                f"{ratio} | {_num(b.get('sigma_H_MPa'))} / {_num(v.get('sigma_H_MPa'))} | "
+                f"{_num(b.get('w_max_N_per_mm'))} / {_num(v.get('w_max_N_per_mm'))} |"
+            )
+    if not rows:
+        return []
+    return [
+        "", "## Contact stress: branch against system", "",
+        "The largest contact pressure over the mesh cycle at the interior grid points (MPa;",
+        "the face-end and tip/form edges kept apart, as in the case reports), in the system",
+        "scene the largest over the planets' meshes of each gear pair (the mesh in brackets);",
+        "ISO 6336-2's sigma_H from each scene's own face load factor, and the largest line",
+        "load (N/mm), branch / system.", "",
+        "| case | mesh | branch | system (mesh) | system / branch | sigma_H: branch / system "
+        "| w_max: branch / system |",
+        "|---|---|---|---|---|---|---|",
+        *rows,
+    ]  # fmt: skip
+
+
 def _num(v) -> str:
     return "-" if v is None else f"{v:.0f}"
 
@@ -288,6 +319,7 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
         )
     lines += ["", *_spacing_text(next(iter(system.values())))]
     lines += _root_stress_text(branch, system)
+    lines += _contact_stress_text(branch, system)
     if kind == "double_pinion":
         lines += _per_pair(system, quantities)
         lines += _double_pinion_text(branch, system)

@@ -198,3 +198,21 @@ def test_summary_keeps_the_old_keys(cycle):
         res["sun-pinion"]["interior_p_max_MPa"], rel=1e-12
     )
     assert set(driver_torques(study.gearset)) == {("sun", "pinion"), ("pinion", "ring")}
+
+
+def test_planet_meshes_reduce_to_the_gear_set_meshes():
+    """The system scene's contact stresses per mesh of the gear set: the largest over the
+    planets' meshes, and which mesh it was (planet bodies are the gear's name and index)."""
+    from postprocess.summary import cycle_set, set_mesh
+
+    gears = ("sun", "pinion", "ring")
+    assert set_mesh("sun-pinion2", gears) == "sun_pinion"
+    assert set_mesh("pinion13-ring", gears) == "pinion_ring"
+    assert set_mesh("sun-pinion", gears) == "sun_pinion"
+    cycle = {"sun-pinion1": {"interior_p_max_MPa": 2100.0, "sigma_H_MPa": 2300.0},
+             "sun-pinion2": {"interior_p_max_MPa": 2200.0, "sigma_H_MPa": 2250.0},
+             "pinion1-ring": {"interior_p_max_MPa": 1400.0, "sigma_H_MPa": None}}  # fmt: skip
+    out = cycle_set(cycle, gears)
+    assert out["sun_pinion"] == {"mesh": "sun_pinion2", "interior_p_max_MPa": 2200.0,
+                                 "sigma_H_MPa": 2300.0}  # fmt: skip
+    assert out["pinion_ring"] == {"mesh": "pinion1_ring", "interior_p_max_MPa": 1400.0}
