@@ -38,7 +38,7 @@ import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
 # isort: split
 import json
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import dolfinx
 import dolfinx.fem.petsc
@@ -297,6 +297,18 @@ def sector_teeth(scene, study, spacing: float, width=None, micro=None) -> dict[s
     return {key: len(ts) for key, ts in grid_teeth(scene, grids).items()}
 
 
+def sector_body(scene, body: str, n_read: int, side: str):
+    """The canonical sector (:func:`meshing.submodel.submodel_body`) of ``body`` of ``scene``
+    with ``n_read`` read teeth on ``side``; a planet's is cut from its gear of the gear set
+    (``pinion``, not ``pinion2``), so one sector serves every planet: the same mesh and the
+    same assembled operator, turned onto each planet's teeth."""
+    pg = scene.gear(body)
+    gbody = pg.body
+    if pg.gear_name != gbody.body:
+        gbody = replace(gbody, gear=replace(gbody.gear, name=pg.gear_name), name=None)
+    return submodel_body(gbody, n_read, side)
+
+
 def most_loaded(set_key: dict[str, str], load_n: dict[str, float]) -> set[str]:
     """The output keys read on submodels: per gear and side of the gear set (``set_key``:
     output key -> gear-set key, :func:`solvers.root_stress.set_keys`) the one whose sector
@@ -365,7 +377,7 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
             continue
         z = gear.teeth
         try:
-            sb = submodel_body(scene.gear(body).body, n, side)
+            sb = sector_body(scene, body, n, side)
         except ValueError as exc:
             raise SubmodelError(f"root stress submodel of {key}: {exc}") from exc
         gb = p.bodies[body]
@@ -416,6 +428,7 @@ __all__ = [
     "cut_names",
     "field_at",
     "most_loaded",
+    "sector_body",
     "sector_loads",
     "sector_teeth",
     "sector_turn",

@@ -25,6 +25,7 @@ from solvers.root_submodel import (
     SubmodelBody,
     SubmodelError,
     cut_names,
+    sector_body,
     sector_loads,
     sector_teeth,
     submodel_root_stress,
@@ -262,3 +263,20 @@ def test_cycle_sector_holds_every_position_of_the_cycle():
         counts = [h[key] for h in here]
         assert max(counts) <= n <= min(counts) + 1, (key, n, counts)
     assert any(min(h[k] for h in here) < n for k, n in cyc[0].items())  # it matters here
+
+
+def test_one_sector_serves_every_planet():
+    """The system scene's pinions are three bodies (pinion1..3) of one gear: their sectors
+    are the gear set's pinion's, the same mesh file and parameters, so the store sets one up
+    for all three (before, each planet's name made its own: a level-1 1-GA system study set
+    the pinion's sectors up again whenever the most loaded planet changed, 60-70 s each)."""
+    from meshing.body_cache import body_params
+    from meshing.scenes import build_scene
+
+    sc = build_scene("system", load_study_case("1-GA").gearset, 0.0)
+    lv = sizing.check_level(1)
+    sectors = [sector_body(sc, f"pinion{k}", 5, "pos") for k in (1, 2, 3)]
+    assert {s.body for s in sectors} == {"pinion"}
+    assert len({repr(body_params(s, sizing.level_record(lv))) for s in sectors}) == 1
+    # the sun and ring are one body each: their sector is their own
+    assert sector_body(sc, "sun", 5, "pos").body == "sun"
