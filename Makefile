@@ -106,7 +106,8 @@ case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/
 # Case 2 in the system scene: sun, the three SP-RP pairs, ring and the carrier with six pins
 # (an SP and an RP pin per pair), each pinion on its bearing to its own pin. At the case files'
 # level 1 (1.0M DOFs, coarse root fillets): 8.8 min serial with the branch reference, peak
-# 11.2 GB; SYSTEM_LEVEL=0 on a smaller machine.
+# 11.2 GB, before the root stress was read in both scenes (six sector solves a position more
+# since, not yet timed); SYSTEM_LEVEL=0 on a smaller machine.
 SYSTEM_LEVEL ?=
 case2-system: $(STAMP) ## case 2 in the system scene (six carrier pins): results/case2-system/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --scene system \
