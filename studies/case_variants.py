@@ -15,9 +15,18 @@ def global_root_stress(study):
     return dataclasses.replace(study, numerics=numerics)
 
 
+def no_root_stress(study):
+    """``study`` with ``numerics.root_stress = "none"``: the same solution, no root stress
+    read, in any scene. For the studies and tests of moments, load shares or stiffness alone
+    whose scene may have coarse fillets (``global_root_stress`` needs refined ones)."""
+    numerics = dataclasses.replace(study.numerics, root_stress="none")
+    return dataclasses.replace(study, numerics=numerics)
+
+
 def coarse_root_fillets(study):
-    """``study`` with ``numerics.root_fillets = "coarse"``: no fillet refined for a root
-    stress, as in the system scene (finer fillets make the teeth more compliant: 0.4 % of
-    2B-GA's LOA moments at level 0). For comparisons with the system scene."""
+    """``study`` with ``numerics.root_fillets = "coarse"``: the global model's fillets as in
+    the system scene (finer fillets make the teeth more compliant: 0.4 % of 2B-GA's LOA
+    moments at level 0; the submodels still read the root stress). For comparisons with the
+    system scene."""
     numerics = dataclasses.replace(study.numerics, root_fillets="coarse")
     return dataclasses.replace(study, numerics=numerics)

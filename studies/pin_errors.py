@@ -31,6 +31,7 @@ from mpi4py import MPI
 
 from cases.study_case import load_study_case
 from solvers.body_store import BodyStore
+from studies.case_variants import no_root_stress
 from studies.position import solve_position
 
 
@@ -42,8 +43,7 @@ def _with_error(study, error_um: float, direction: str, k_sun: float):
                                  sun_radial_stiffness=k_sun)  # fmt: skip
     model = dataclasses.replace(study.model, scene="system")
     # the load shares only: no root stress (its submodels would be most of every solve)
-    numerics = dataclasses.replace(study.numerics, root_stress="none")
-    return dataclasses.replace(study, system=system, model=model, numerics=numerics)
+    return no_root_stress(dataclasses.replace(study, system=system, model=model))
 
 
 def run(case: str, errors: list[float], out: Path, level: int, direction: str,

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cases.gearset import CaseError
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
 from meshing.scenes import build_scene, cycle_angles, refines_root_fillets
@@ -40,6 +41,19 @@ def roll_angles(study, positions: int) -> list[float]:
     """Sun angles (rad) of ``positions`` equally spaced mesh positions over one base pitch."""
     z_sun = study.gearset.gears[study.gearset.power_path[0]].teeth
     return [2.0 * math.pi / z_sun * k / positions for k in range(positions)]
+
+
+def check_root_stress(study, scene) -> None:
+    """:class:`cases.gearset.CaseError` if ``numerics.root_stress = "global"`` meets a scene
+    whose global fillets are coarse: there is nothing refined to read, and a run would end
+    without a root stress and without an error."""
+    if study.numerics.root_stress == "global" and not refines_root_fillets(scene):
+        raise CaseError(
+            f"{study.name}: numerics.root_stress = 'global' reads the global model's refined "
+            f"root fillets, and the {study.model.scene} scene with numerics.root_fillets = "
+            f"{study.numerics.root_fillets!r} refines none: choose 'submodel' (read on "
+            "submodels, any fillets) or 'none', or root_fillets = 'refined'"
+        )
 
 
 def study_scene(study, roll: float, **options):
@@ -123,6 +137,7 @@ def solve_position(
     t0 = time.perf_counter()
     _stage(progress, "scene")
     scene = study_scene(study, roll, **(scene_options or {}))
+    check_root_stress(study, scene)
     t_scene = time.perf_counter()
     _stage(progress, "meshes")
     meshes = load_body_meshes(scene, level, comm, store.mesh_memo)
@@ -157,7 +172,7 @@ def solve_position(
             check = root_stress(model, result)
             bs["global"] = {k: check[k] for k in bs["locations"]}
         out["bending_stress"] = bs
-    elif num.root_stress == "global" and refined:
+    elif num.root_stress == "global":  # refined: check_root_stress
         out["bending_stress"] = root_stress(model, result)
     t_post = time.perf_counter()
     # the submodel ladder: timed apart (and the memory peak before it kept), so a run's wall

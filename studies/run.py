@@ -61,7 +61,6 @@ from cases.study_case import (
 )
 from meshing import sizing
 from meshing.cache import CacheDirError, cache_dir
-from meshing.scenes import build_scene
 from postprocess.contact_pattern import draw_contact_patterns
 from postprocess.flank_pictures import draw_flank_patterns
 from postprocess.loaded_scene import loaded_scene_picture
@@ -81,7 +80,7 @@ from studies.cli import (
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
 from studies.plausibility import plausibility_warnings
-from studies.position import roll_angles, solve_position, study_scene
+from studies.position import check_root_stress, roll_angles, solve_position, study_scene
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
 from studies.ranks import Ranks
@@ -206,9 +205,10 @@ def run_study(
     level, n_pos = _checked_settings(study, level, positions)
     out = _output_folder(study, out_root)
     try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
-        build_scene(study.model.scene, study.gearset, 0.0)
+        scene = study_scene(study, 0.0)
     except INPUT_ERRORS as exc:
         raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
+    check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
     own = ranks is None
     ranks = Ranks(comm) if own else ranks
     try:

@@ -29,7 +29,7 @@ from meshing.carrier import (
 from meshing.scenes import build_scene, pinion_bore_radius
 from meshing.sizing import MIN_SICN, MeshingError
 from solvers.gear_train import branch_pin_errors
-from studies.case_variants import coarse_root_fillets, global_root_stress
+from studies.case_variants import coarse_root_fillets, no_root_stress
 from studies.position import solve_position
 
 LOA = ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring")
@@ -158,9 +158,8 @@ def stiff_system():
     """2B-GA (rigid bearings) with the carrier 1000x stiffer than the gears: E_carrier =
     206e6 MPa, gears 206e3 (gear_modulus_factor 1e-3)."""
     study = as_system(load_study_case("2B-GA"), youngs_modulus=206e6, gear_modulus_factor=1e-3)
-    # moments only: no root stress (global: none on coarse fillets; the system scene's
-    # submodels are tested on case 1, test_system_scene)
-    return solve_position(global_root_stress(study), 0.0, MPI.COMM_SELF, level=0)
+    # moments only: no root stress (the system scene's submodels: test_system_scene)
+    return solve_position(no_root_stress(study), 0.0, MPI.COMM_SELF, level=0)
 
 
 @pytest.fixture(scope="module")
@@ -168,7 +167,7 @@ def branch_ga():
     """2B-GA in the one-branch scene on the system scene's coarse root fillets (the reference
     ``make case2-system`` compares with): the same fillet sizes on both sides of the
     comparison; no root stress read (moments only)."""
-    study = global_root_stress(coarse_root_fillets(load_study_case("2B-GA")))
+    study = no_root_stress(coarse_root_fillets(load_study_case("2B-GA")))
     return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
 
 
@@ -223,7 +222,7 @@ def test_case2_pair_on_stiff_carrier_matches_the_branch(stiff_system, branch_ga)
 def test_case2_system_parallel_equals_serial():
     """The double-pinion system scene (2B-GB, steel carrier) on 2 ranks against a serial
     solve: MUMPS on another partition changes round-off only (1e-6 is a wide margin)."""
-    study = global_root_stress(as_system(load_study_case("2B-GB")))  # moments only
+    study = no_root_stress(as_system(load_study_case("2B-GB")))  # moments only
     par = solve_position(study, 0.0, MPI.COMM_WORLD, level=0)
     ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, level=0))
     scale = max(abs(ser[k]) for k in LOA)

@@ -168,3 +168,22 @@ def test_case1_report(study):
     mine, theirs = re.escape(f"{summary['My_pin']:.1f}"), re.escape(f"{at_z:.1f}")
     row = rf"\| My_pin \| {mine}( ± [0-9.]+)? \| {theirs} \|"
     assert re.search(row, text), row
+
+
+def test_global_root_stress_on_coarse_fillets_is_refused_before_any_solve(
+    monkeypatch, tmp_path, capsys
+):
+    """numerics.root_stress = 'global' reads the global model's refined fillets; the system
+    scene refines none, so the run would end without a root stress and without an error.
+    It is refused as input (exit 2, the field named) before a position is solved."""
+    text = Path(load_study_case("1-GA").path).read_text()
+    edited = tmp_path / "1-GA.toml"
+    edited.write_text(text.replace("[numerics]", '[numerics]\nroot_stress = "global"', 1))
+    calls = []
+    monkeypatch.setattr(study_run, "solve_position", lambda *a, **k: calls.append(a))
+    code = study_run.main([str(edited), "--scene", "system", "--level", "0",
+                           "--out", str(tmp_path / "results")])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 2 and calls == []
+    assert "numerics.root_stress = 'global'" in err and "'submodel'" in err
+    assert "Traceback" not in err
