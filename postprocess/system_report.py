@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 from postprocess.convergence import plus_minus, uncertainty_note
@@ -370,13 +371,7 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
                   f"{res['level']}, one position)", "",
                   f"The pin of pinion 1 displaced {res['direction']}ly in the carrier "
                   "(`python -m studies.pin_errors`; the other pins exact):", "",
-                  "| sun support (N/mm) | error (um) | K_gamma | load shares |",
-                  "|---|---|---|---|"]  # fmt: skip
-        for r in res["rows"]:
-            shares = ", ".join(f"{s:.4f}" for s in r["load_shares"])
-            k = r.get("sun_radial_stiffness", 0.0)
-            sun = "floating" if k == 0 else f"{k:.3g}"
-            lines.append(f"| {sun} | {r['error_um']:g} | {r['K_gamma']:.4f} | {shares} |")
+                  *_pin_error_table(res["rows"])]  # fmt: skip
         lines += ["", *_pin_error_reading(res["rows"])]
         lines += ["", "![K_gamma against the pin-hole error](pin_errors.png)"]
     lines += ["", "## Pictures", ""]
@@ -386,6 +381,49 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
     system_dir.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def _pin_error_table(rows) -> list[str]:
+    """The pin-error rows: K_gamma, the load shares and, where read, the root stress per
+    gear-set key on its most loaded planet (MPa, the planet read in brackets)."""
+    keys = list(next((r["root_stress"] for r in rows if r.get("root_stress")), None) or {})
+    head = "| sun support (N/mm) | error (um) | K_gamma | load shares |"
+    if keys:
+        head += f" root stress (MPa, most loaded planet): {' / '.join(keys)} |"
+    out = [head, "|---" * (4 + bool(keys)) + "|"]
+    for r in rows:
+        shares = ", ".join(f"{s:.4f}" for s in r["load_shares"])
+        k = r.get("sun_radial_stiffness", 0.0)
+        sun = "floating" if k == 0 else f"{k:.3g}"
+        line = f"| {sun} | {r['error_um']:g} | {r['K_gamma']:.4f} | {shares} |"
+        if keys:
+            stress, at = r.get("root_stress") or {}, r.get("root_stress_key") or {}
+            line += " " + " / ".join(f"{_num(stress.get(q))} ({_planet(at.get(q))})"
+                                     for q in keys) + " |"  # fmt: skip
+        out.append(line)
+    return out
+
+
+def _planet(key: str | None) -> str:
+    """The planet of a root-stress output key (``pinion2_sun_side`` -> ``2``), else ``-``."""
+    m = re.search(r"\d+", key or "")
+    return m.group(0) if m else "-"
+
+
+def root_stress_ratios(rows: list[dict]) -> dict:
+    """Per sun support and gear-set key: (error, root stress / root stress at zero error)
+    for the rows that read it; empty without a zero-error row of that support."""
+    out: dict = {}
+    for k_sun in sorted({r["sun_radial_stiffness"] for r in rows}):
+        series = [r for r in rows if r["sun_radial_stiffness"] == k_sun and r.get("root_stress")]
+        ref = next((r["root_stress"] for r in series if r["error_um"] == 0), None)
+        if ref is None:
+            continue
+        for key, v0 in ref.items():
+            pts = [(r["error_um"], r["root_stress"][key] / v0) for r in series
+                   if v0 and r["root_stress"].get(key) is not None]  # fmt: skip
+            out.setdefault(k_sun, {})[key] = sorted(pts)
+    return out
 
 
 def _kgamma_range(rows, floating: bool) -> tuple[float, float] | None:
@@ -412,5 +450,15 @@ def _pin_error_reading(rows) -> list[str]:
         out.append(
             f"Supported sun: K_gamma {sup[0]:.4f} to {sup[1]:.4f}: the sun cannot follow, and "
             "the error loads its pinion."
+        )
+    for k_sun, per_key in root_stress_ratios(rows).items():
+        far = {q: max(pts, key=lambda p: abs(p[0])) for q, pts in per_key.items() if pts}
+        if not far or all(e == 0 for e, _ in far.values()):
+            continue
+        sun = "floating sun" if k_sun == 0 else f"sun on {k_sun:.3g} N/mm"
+        out.append(
+            f"Root stress of the most loaded planet, {sun}, at the largest error against none: "
+            + ", ".join(f"{q} x{r:.3f}" for q, (_, r) in far.items())
+            + f" ({max(abs(e) for e, _ in far.values()):g} um)."
         )
     return out

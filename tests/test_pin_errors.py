@@ -1,0 +1,106 @@
+"""The pin-error study (studies.pin_errors): its input checks, its report, and the sign and
+linearity of a pin-hole error's effect on the load shares and the most loaded planet's root
+stress in the system scene (1-GB, level 0, one position, sun on a 1e6 N/mm support)."""
+
+import dolfinx_solver  # noqa: F401 - must precede dolfinx
+
+# isort: split
+import json
+
+import pytest
+from mpi4py import MPI
+
+from postprocess.system_report import _pin_error_table, root_stress_ratios
+from studies import pin_errors
+
+
+@pytest.mark.parametrize(
+    "argv, says",
+    [
+        (["1-GB", "--sun-stiffness", "-5"], "--sun-stiffness -5: must be >= 0 N/mm"),
+        (["1-GB", "--sun-stiffness", "nan"], "--sun-stiffness nan: must be >= 0 N/mm"),
+        (["1-GB", "--errors", "0", "2000"], "--errors 2000: every error must be within +-1000"),
+        (["1-GB", "--level", "9"], "(option --level)"),
+        (["NOPE"], "no such case"),
+    ],
+)
+def test_bad_input_is_refused_before_any_solve(monkeypatch, tmp_path, capsys, argv, says):
+    """Out-of-range options are refused with one line naming the option (exit 2): before,
+    a negative sun support stiffness was solved as given (the case file's check was
+    bypassed by the study's own replace)."""
+    calls = []
+    monkeypatch.setattr(pin_errors, "solve_position", lambda *a, **k: calls.append(a))
+    code = pin_errors.main([*argv, "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and calls == []
+    assert err.startswith("error: ") and says in err and "Traceback" not in err
+    assert not (tmp_path / "out").exists()
+
+
+ROWS = [
+    {"sun_radial_stiffness": 1e6, "error_um": e, "K_gamma": k, "load_shares": shares,
+     "root_stress": {"sun": s, "ring": 2 * s}, "root_stress_key": {"sun": f"sun_pinion{p}_side",
+                                                                   "ring": f"ring_pinion{p}_side"}}
+    for e, k, shares, s, p in [(0.0, 1.01, [0.98, 1.01, 1.01], 500.0, 2),
+                               (-25.0, 1.2, [1.2, 0.9, 0.9], 600.0, 1)]
+]  # fmt: skip
+
+
+def test_root_stress_ratios_are_against_the_zero_error_row_of_the_same_support():
+    r = root_stress_ratios([*ROWS, dict(ROWS[1], sun_radial_stiffness=0.0)])
+    assert r == {1e6: {"sun": [(-25.0, 1.2), (0.0, 1.0)], "ring": [(-25.0, 1.2), (0.0, 1.0)]}}
+
+
+def test_pin_error_table_names_the_planet_read():
+    lines = _pin_error_table(ROWS)
+    assert "root stress (MPa, most loaded planet): sun / ring" in lines[0]
+    assert lines[1].count("---") == 5
+    assert lines[3].endswith("| 600 (1) / 1200 (1) |")
+    no_stress = _pin_error_table([dict(r, root_stress=None) for r in ROWS])
+    assert "root stress" not in no_stress[0] and no_stress[2].endswith("| 0.9800, 1.0100, 1.0100 |")
+
+
+@pytest.fixture(scope="module")
+def supported(tmp_path_factory):
+    out = tmp_path_factory.mktemp("pin_errors")
+    res = pin_errors.run("1-GB", [0.0, 25.0, -25.0], out, 0, "tangential", [1.0e6],
+                         MPI.COMM_SELF)  # fmt: skip
+    return res, out
+
+
+def test_a_forward_pin_error_unloads_its_planet_linearly(supported):
+    """A pin hole moved by e along the sun's rotation moves its planet away from both
+    flanks that drive it (the sun's tooth pushes it forward at the sun mesh, and the ring's
+    reaction does at the ring mesh): both meshes open and the planet gives up load; -e loads
+    it. The shares must move in that sense and, mesh stiffness being near linear over
+    +-25 um, by nearly opposite amounts: the tolerance, 10 % of the change, is for the
+    contact zones' growth with load (measured: see the assertion's message)."""
+    res, out = supported
+    rows = {r["error_um"]: r for r in res["rows"]}
+    s0, sp, sm = (rows[e]["load_shares"][0] for e in (0.0, 25.0, -25.0))
+    assert sp < s0 < sm
+    d_plus, d_minus = sp - s0, sm - s0
+    asym = abs(d_plus + d_minus) / (0.5 * (d_minus - d_plus))
+    assert asym < 0.10, f"shares {sm:.4f} / {s0:.4f} / {sp:.4f}: asymmetry {asym:.3f}"
+    for r in res["rows"]:  # the shares are of the mean load: they add up to the planets
+        assert sum(r["load_shares"]) == pytest.approx(3.0, rel=1e-9)
+        assert r["K_gamma"] == max(r["load_shares"])
+    assert json.loads((out / "pin_errors.json").read_text())["rows"] == res["rows"]
+    assert (out / "pin_errors.png").stat().st_size > 10_000
+
+
+def test_the_most_loaded_planet_is_read_and_its_root_stress_follows_the_load(supported):
+    """The root stress is read on the most loaded planet's mesh: pinion 1 with -25 um (it
+    carries K_gamma), never pinion 1 with +25 um (it carries the least), and the stress read
+    rises with K_gamma."""
+    res, _ = supported
+    rows = {r["error_um"]: r for r in res["rows"]}
+    assert set(rows[-25.0]["root_stress_key"].values()) <= {
+        "sun_pinion1_side",
+        "pinion1_sun_side",
+        "pinion1_ring_side",
+        "ring_pinion1_side",
+    }
+    assert not any("pinion1" in k for k in rows[25.0]["root_stress_key"].values())
+    for key, v0 in rows[0.0]["root_stress"].items():
+        assert rows[-25.0]["root_stress"][key] > v0, key
