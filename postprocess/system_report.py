@@ -435,21 +435,37 @@ def _pin_error_reading(rows) -> list[str]:
     """What the pin-error table shows, from its numbers: how far K_gamma moves over the errors
     with the sun floating (statics of three forces on a free sun: the shares do not depend on
     the pin positions when the mesh forces act on their planes of action; forces off those
-    planes, tip-corner cells of the zone grid, leave a small dependence) and supported."""
+    planes, tip-corner cells of the zone grid, leave a small dependence; with more planets
+    statics do not fix them) and supported (pinion 1's share and K_gamma at the extremes),
+    and the most loaded planet's root stress at the largest error against none."""
     out = []
     fl, sup = _kgamma_range(rows, True), _kgamma_range(rows, False)
+    planets = len(rows[0]["load_shares"]) if rows else 0
     if fl is not None:
+        why = (
+            "three mesh forces balance a free sun, so a pin error moves the sun rather than "
+            "the shares (exactly so for forces on the planes of action; contact off them, at "
+            "tip corners, leaves what remains)"
+            if planets == 3
+            else f"with {planets} planets the forces on a free sun do not fix the shares by "
+            "statics alone"
+        )
         out.append(
             f"Floating sun: K_gamma {fl[0]:.4f} to {fl[1]:.4f} over the errors "
-            f"({100 * (fl[1] - fl[0]):.2f} % of the mean load): three mesh forces balance a "
-            "free sun, so a pin error moves the sun rather than the shares (exactly so for "
-            "forces on the planes of action; contact off them, at tip corners, leaves what "
-            "remains)."
+            f"({100 * (fl[1] - fl[0]):.2f} % of the mean load): {why}."
         )
     if sup is not None:
+        k = min(r["sun_radial_stiffness"] for r in rows if r.get("sun_radial_stiffness"))
+        series = sorted((r for r in rows if r.get("sun_radial_stiffness") == k),
+                        key=lambda r: r["error_um"])  # fmt: skip
+        lo, hi = series[0], series[-1]
         out.append(
-            f"Supported sun: K_gamma {sup[0]:.4f} to {sup[1]:.4f}: the sun cannot follow, and "
-            "the error loads its pinion."
+            f"Supported sun ({k:.3g} N/mm): the sun cannot follow. Pinion 1's share is "
+            f"{lo['load_shares'][0]:.4f} at {lo['error_um']:g} um and "
+            f"{hi['load_shares'][0]:.4f} at {hi['error_um']:g} um (a pin moved along the "
+            "sun's rotation opens both meshes of its pinion, which gives up load to the "
+            f"others; moved against it, the pinion takes load), K_gamma {sup[0]:.4f} to "
+            f"{sup[1]:.4f}."
         )
     for k_sun, per_key in root_stress_ratios(rows).items():
         far = {q: max(pts, key=lambda p: abs(p[0])) for q, pts in per_key.items() if pts}

@@ -10,7 +10,7 @@ import json
 import pytest
 from mpi4py import MPI
 
-from postprocess.system_report import _pin_error_table, root_stress_ratios
+from postprocess.system_report import _pin_error_reading, _pin_error_table, root_stress_ratios
 from studies import pin_errors
 
 
@@ -104,3 +104,21 @@ def test_the_most_loaded_planet_is_read_and_its_root_stress_follows_the_load(sup
     assert not any("pinion1" in k for k in rows[25.0]["root_stress_key"].values())
     for key, v0 in rows[0.0]["root_stress"].items():
         assert rows[-25.0]["root_stress"][key] > v0, key
+
+
+def test_the_reading_follows_the_numbers():
+    """The report's reading takes the sense of pinion 1's change from the rows (a forward
+    error unloads it) and claims statics for the floating sun only with three planets."""
+    rows = [
+        {"sun_radial_stiffness": 1e6, "error_um": e, "K_gamma": k, "load_shares": sh}
+        for e, k, sh in [(0.0, 1.01, [0.98, 1.01, 1.01]), (50.0, 1.15, [0.70, 1.15, 1.15])]
+    ]
+    text = " ".join(_pin_error_reading(rows))
+    assert "Pinion 1's share is 0.9800 at 0 um and 0.7000 at 50 um" in text
+    assert "K_gamma 1.0100 to 1.1500" in text
+    four = [{"sun_radial_stiffness": 0.0, "error_um": 0.0, "K_gamma": 1.0,
+             "load_shares": [1.0] * 4}]  # fmt: skip
+    assert "with 4 planets" in " ".join(_pin_error_reading(four))
+    assert "three mesh forces" in " ".join(
+        _pin_error_reading([dict(four[0], load_shares=[1.0] * 3)])
+    )
