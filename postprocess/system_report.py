@@ -118,7 +118,7 @@ def _root_stress_text(branch: dict, system: dict) -> list[str]:
         st, _ = _set_stress(sy, "bending_stress_tangent")
         bv, _ = _set_stress(br, "bending_stress")
         bt, _ = _set_stress(br, "bending_stress_tangent")
-        for key in sv:
+        for key in [*(k for k in bv if k in sv), *(k for k in sv if k not in bv)]:
             b, v = bv.get(key), sv[key]
             ratio = f"{v / b:.3f}" if b else "-"
             line = f"{_num(bt.get(key))} / {_num(st.get(key))}"

@@ -272,6 +272,20 @@ def test_system_report_double_pinion(tmp_path):
     assert "M_LOA_sun_SP -20.0" in text and "-300 urad" in text
 
 
+def test_system_report_root_stress_rows_in_the_branch_order():
+    """The root-stress rows of a case follow the branch's gear order (sun, pinion sides,
+    ring), whatever order the system summary's set maxima came in (1-GC's did not)."""
+    from postprocess.system_report import _root_stress_text
+
+    order = ("sun", "pinion_sun_side", "pinion_ring_side", "ring")
+    branch = {"bending_stress": {k: 100.0 + j for j, k in enumerate(order)}}
+    system = {"bending_stress_set": {k: 200.0 for k in reversed(order)},
+              "bending_stress_set_key": {k: k for k in order}}  # fmt: skip
+    rows = [r for r in _root_stress_text({"X": branch}, {"X": system}) if r.startswith("| X")]
+    assert [r.split(" | ")[1] for r in rows] == list(order)
+    assert rows[0].startswith("| X | sun | 100 | 200 (sun) | 2.000 |")
+
+
 @pytest.mark.parametrize(("branch_refined", "like"), [(True, False), (False, True)])
 def test_system_report_says_whether_the_fillets_compare_like_with_like(branch_refined, like):
     """The one-branch scene refines its root fillets by default (and reads a root stress),
