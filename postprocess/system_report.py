@@ -471,10 +471,24 @@ def _pin_error_reading(rows) -> list[str]:
         far = {q: max(pts, key=lambda p: abs(p[0])) for q, pts in per_key.items() if pts}
         if not far or all(e == 0 for e, _ in far.values()):
             continue
+        series = [r for r in rows if r["sun_radial_stiffness"] == k_sun]
+        e_far = max((e for e, _ in far.values()), key=abs)
+        k0 = next(r["K_gamma"] for r in series if r["error_um"] == 0)
+        k_far = next(r["K_gamma"] for r in series if r["error_um"] == e_far)
+        keys = [k for r in series for k in (r.get("root_stress_key") or {}).values()]
+        read = sorted({_planet(k) for k in keys})
         sun = "floating sun" if k_sun == 0 else f"sun on {k_sun:.3g} N/mm"
         out.append(
-            f"Root stress of the most loaded planet, {sun}, at the largest error against none: "
+            f"Root stress of the most loaded planet (read on pinion {', '.join(read)}), {sun}, "
+            f"at {e_far:g} um against none: "
             + ", ".join(f"{q} x{r:.3f}" for q, (_, r) in far.items())
-            + f" ({max(abs(e) for e, _ in far.values()):g} um)."
+            + f"; K_gamma x{k_far / k0:.3f}."
+        )
+    if any(r.get("root_stress") for r in rows):
+        out.append(
+            "The planets sit at different mesh phases, and a tooth's root stress per unit load "
+            "changes with the phase (the one-branch scene's positions show by how much), so "
+            "compare the root stress within a series, read on one planet, not across series "
+            "read on different planets."
         )
     return out

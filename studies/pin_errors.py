@@ -142,6 +142,11 @@ def _plot(result: dict, path: Path) -> None:
             for j, (key, pts) in enumerate(sorted(per_key.items())):
                 ax.plot(*zip(*pts, strict=True), f"C{j}" + styles[k_sun], marker="o",
                         label=f"{key}, {sun(k_sun)}")  # fmt: skip
+            rows = [r for r in result["rows"] if r["sun_radial_stiffness"] == k_sun]
+            k0 = next(r["K_gamma"] for r in rows if r["error_um"] == 0)
+            pts = sorted((r["error_um"], r["K_gamma"] / k0) for r in rows)
+            ax.plot(*zip(*pts, strict=True), "k" + styles[k_sun], lw=0.8,
+                    label=f"K_gamma / K_gamma without error, {sun(k_sun)}")  # fmt: skip
         ax.axhline(1.0, color="0.6", lw=0.8)
         ax.set_xlabel(f"{result['direction']} pin-hole error of pinion 1 (um)")
         ax.set_ylabel("root stress / root stress without error")
