@@ -63,47 +63,54 @@ def test_pin_error_table_names_the_planet_read():
 @pytest.fixture(scope="module")
 def supported(tmp_path_factory):
     out = tmp_path_factory.mktemp("pin_errors")
-    res = pin_errors.run("1-GB", [0.0, 25.0, -25.0], out, 0, "tangential", [1.0e6],
+    res = pin_errors.run("1-GB", [0.0, 25.0, -10.0, -25.0], out, 0, "tangential", [1.0e6],
                          MPI.COMM_SELF)  # fmt: skip
     return res, out
 
 
+@pytest.mark.slow
 def test_a_forward_pin_error_unloads_its_planet_linearly(supported):
     """A pin hole moved by e along the sun's rotation moves its planet away from both
     flanks that drive it (the sun's tooth pushes it forward at the sun mesh, and the ring's
     reaction does at the ring mesh): both meshes open and the planet gives up load; -e loads
-    it. The shares must move in that sense and, mesh stiffness being near linear over
-    +-25 um, by nearly opposite amounts: the tolerance, 10 % of the change, is for the
-    contact zones' growth with load (measured: see the assertion's message)."""
+    it. The shares must move in that sense and, the meshes' stiffness being near linear over
+    +-25 um, by opposite amounts: measured 0.15 % apart (share of pinion 1 0.8492 / 0.9956 /
+    1.1422 at +25 / 0 / -25 um, level 0, 2026-11-27); 2 % leaves room for the contact zones'
+    growth with load and still catches a change that is not antisymmetric (an offset
+    applied to one mesh only, or with the wrong sign on one axis)."""
     res, out = supported
     rows = {r["error_um"]: r for r in res["rows"]}
     s0, sp, sm = (rows[e]["load_shares"][0] for e in (0.0, 25.0, -25.0))
     assert sp < s0 < sm
     d_plus, d_minus = sp - s0, sm - s0
     asym = abs(d_plus + d_minus) / (0.5 * (d_minus - d_plus))
-    assert asym < 0.10, f"shares {sm:.4f} / {s0:.4f} / {sp:.4f}: asymmetry {asym:.3f}"
-    for r in res["rows"]:  # the shares are of the mean load: they add up to the planets
-        assert sum(r["load_shares"]) == pytest.approx(3.0, rel=1e-9)
+    assert asym < 0.02, f"shares {sm:.4f} / {s0:.4f} / {sp:.4f}: asymmetry {asym:.4f}"
+    for r in res["rows"]:
         assert r["K_gamma"] == max(r["load_shares"])
     assert json.loads((out / "pin_errors.json").read_text())["rows"] == res["rows"]
     assert (out / "pin_errors.png").stat().st_size > 10_000
 
 
-def test_the_most_loaded_planet_is_read_and_its_root_stress_follows_the_load(supported):
-    """The root stress is read on the most loaded planet's mesh: pinion 1 with -25 um (it
-    carries K_gamma), never pinion 1 with +25 um (it carries the least), and the stress read
-    rises with K_gamma."""
+@pytest.mark.slow
+def test_the_most_loaded_planet_is_read_and_its_root_stress_follows_its_load(supported):
+    """The root stress is read on the most loaded planet's mesh: pinion 1 with -10 and -25
+    um (it carries K_gamma), never pinion 1 with +25 um (it carries the least). On one planet
+    (one mesh phase) the stress must rise with the load, and by no more than the load: a
+    larger load on the same misalignment spreads along the face (measured on pinion 1, -10
+    -> -25 um: x1.06-1.08 for a load x1.084, level 0, 2026-11-27); 2 % above the load's
+    ratio for a pattern that shifts. Different planets are not compared: their mesh phases
+    differ, and with them the root stress per unit load (pinion 1 at -25 um reads the ring
+    5 % below pinion 3 at no error while carrying 14 % more)."""
     res, _ = supported
     rows = {r["error_um"]: r for r in res["rows"]}
-    assert set(rows[-25.0]["root_stress_key"].values()) <= {
-        "sun_pinion1_side",
-        "pinion1_sun_side",
-        "pinion1_ring_side",
-        "ring_pinion1_side",
-    }
+    pinion1 = {"sun_pinion1_side", "pinion1_sun_side", "pinion1_ring_side", "ring_pinion1_side"}
+    for e in (-10.0, -25.0):
+        assert set(rows[e]["root_stress_key"].values()) == pinion1
     assert not any("pinion1" in k for k in rows[25.0]["root_stress_key"].values())
-    for key, v0 in rows[0.0]["root_stress"].items():
-        assert rows[-25.0]["root_stress"][key] > v0, key
+    load = rows[-25.0]["load_shares"][0] / rows[-10.0]["load_shares"][0]
+    for key, v10 in rows[-10.0]["root_stress"].items():
+        ratio = rows[-25.0]["root_stress"][key] / v10
+        assert 1.0 < ratio <= 1.02 * load, f"{key}: stress x{ratio:.4f}, load x{load:.4f}"
 
 
 def test_the_reading_follows_the_numbers():
