@@ -105,9 +105,9 @@ case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/
 # the one-branch scene on the same coarse fillets, so the comparison is like with like.
 # Case 2 in the system scene: sun, the three SP-RP pairs, ring and the carrier with six pins
 # (an SP and an RP pin per pair), each pinion on its bearing to its own pin. At the case files'
-# level 1 (1.0M DOFs, coarse root fillets): 8.8 min serial with the branch reference, peak
-# 11.2 GB, before the root stress was read in both scenes (six sector solves a position more
-# since, not yet timed); SYSTEM_LEVEL=0 on a smaller machine.
+# level 1 (1.0M DOFs, coarse root fillets): 52.5 min serial with the branch reference, one
+# process at 21.2 GB resident at its peak (2026-11-27; 8.8 min and 11.2 GB before the root
+# stress was read in both scenes); SYSTEM_LEVEL=0 on a smaller machine.
 SYSTEM_LEVEL ?=
 case2-system: $(STAMP) ## case 2 in the system scene (six carrier pins): results/case2-system/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --scene system \
