@@ -95,12 +95,13 @@ def test_a_forward_pin_error_unloads_its_planet_linearly(supported):
 def test_the_most_loaded_planet_is_read_and_its_root_stress_follows_its_load(supported):
     """The root stress is read on the most loaded planet's mesh: pinion 1 with -10 and -25
     um (it carries K_gamma), never pinion 1 with +25 um (it carries the least). On one planet
-    (one mesh phase) the stress must rise with the load, and by no more than the load: a
-    larger load on the same misalignment spreads along the face (measured on pinion 1, -10
-    -> -25 um: x1.06-1.08 for a load x1.084, level 0, 2026-11-27); 2 % above the load's
-    ratio for a pattern that shifts. Different planets are not compared: their mesh phases
-    differ, and with them the root stress per unit load (pinion 1 at -25 um reads the ring
-    5 % below pinion 3 at no error while carrying 14 % more)."""
+    (one mesh phase) the stress follows the load: measured on pinion 1 from -10 to -25 um,
+    x1.086-1.089 for a load x1.0835, i.e. 0.2-0.5 % above proportional (level 0,
+    2026-11-27); within 2 % of proportional leaves room for the pattern's move with load and
+    still catches a stress read on another planet or against another planet's load.
+    Different planets are not compared: their mesh phases differ, and with them the root
+    stress per unit load (pinion 1 at -25 um reads the ring 5 % below pinion 3 at no error
+    while carrying 14 % more)."""
     res, _ = supported
     rows = {r["error_um"]: r for r in res["rows"]}
     pinion1 = {"sun_pinion1_side", "pinion1_sun_side", "pinion1_ring_side", "ring_pinion1_side"}
@@ -110,7 +111,7 @@ def test_the_most_loaded_planet_is_read_and_its_root_stress_follows_its_load(sup
     load = rows[-25.0]["load_shares"][0] / rows[-10.0]["load_shares"][0]
     for key, v10 in rows[-10.0]["root_stress"].items():
         ratio = rows[-25.0]["root_stress"][key] / v10
-        assert 1.0 < ratio <= 1.02 * load, f"{key}: stress x{ratio:.4f}, load x{load:.4f}"
+        assert abs(ratio / load - 1) < 0.02, f"{key}: stress x{ratio:.4f}, load x{load:.4f}"
 
 
 def test_the_reading_follows_the_numbers():
