@@ -17,9 +17,9 @@ from studies import pin_errors
 @pytest.mark.parametrize(
     "argv, says",
     [
-        (["1-GB", "--sun-stiffness", "-5"], "--sun-stiffness -5: must be >= 0 N/mm"),
-        (["1-GB", "--sun-stiffness", "nan"], "--sun-stiffness nan: must be >= 0 N/mm"),
-        (["1-GB", "--errors", "0", "2000"], "--errors 2000: every error must be within +-1000"),
+        (["1-GB", "--sun-stiffness", "-5"], "system.sun_radial_stiffness = -5.0: must be >= 0"),
+        (["1-GB", "--sun-stiffness", "nan"], "system.sun_radial_stiffness = nan: must be >= 0"),
+        (["1-GB", "--errors", "0", "2000"], "within +-1000 um"),
         (["1-GB", "--level", "9"], "(option --level)"),
         (["NOPE"], "no such case"),
     ],
@@ -34,7 +34,34 @@ def test_bad_input_is_refused_before_any_solve(monkeypatch, tmp_path, capsys, ar
     err = capsys.readouterr().err
     assert code == 2 and calls == []
     assert err.startswith("error: ") and says in err and "Traceback" not in err
+    if "system." in says:  # the case file's own check, naming the options it came from
+        assert "(options --errors, --sun-stiffness)" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_failed_row_stops_the_study_and_keeps_the_rows_before_it(monkeypatch, tmp_path, capsys):
+    """A solve that fails ends the study with exit 1 and one line naming the row; the rows
+    solved before it stay in pin_errors.json (every rank agrees on the failure first,
+    studies.ranks, so none is left waiting in the next solve)."""
+    pos = {"roll": 0.0, "K_gamma": 1.0, "torque_balance_rel": 0.0, "bending_stress": None,
+           "branches": [{"load_share": 1.0, "angle_deg": a, "My_pin": 1.0, "Mx_pin": 0.0}
+                        for a in (0.0, 120.0, 240.0)]}  # fmt: skip
+    calls = []
+
+    def solve(*a, **k):
+        calls.append(a)
+        if len(calls) == 2:
+            raise RuntimeError("diverged")
+        return pos
+
+    monkeypatch.setattr(pin_errors, "solve_position", solve)
+    code = pin_errors.main(["1-GB", "--errors", "0", "10", "25", "--sun-stiffness", "0",
+                            "--out", str(tmp_path)])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 1 and len(calls) == 2
+    assert "pin error 10 um" in err and "diverged" in err and "Traceback" not in err
+    rows = json.loads((tmp_path / "pin_errors.json").read_text())["rows"]
+    assert [r["error_um"] for r in rows] == [0.0]
 
 
 ROWS = [
