@@ -2,15 +2,16 @@
 
 A mesh position turns every gear rigidly about its own axis, so a body assembled in its own
 frame has the same stiffness at every position: one factorization per (mesh, degree,
-material, supports) serves them all. Bearing springs act on rigid unknowns outside the body
-(:mod:`solvers.contact`), so cases that differ only in bearing stiffness share the bodies
-too. ``BodyStore(reuse=False)`` builds every body afresh (the reference the reuse is tested
-against).
+Poisson ratio, supports) serves them all. Bearing springs act on rigid unknowns outside the
+body (:mod:`solvers.contact`), so cases that differ only in bearing stiffness share the
+bodies too, and so do gear sets of another Young's modulus (K is linear in E:
+:mod:`solvers.modulus_scaling`). ``BodyStore(reuse=False)`` builds every body afresh (the
+reference the reuse is tested against).
 
 Memory: a factorization is the largest object of a run (a level-1 system scene holds about
 9 GB of them), so the store keeps at most as many objects as the previous position used:
-when a case brings new bodies (another gear modulus), each new one replaces the least
-recently used object the current position does not need, instead of piling up beside it.
+when a case brings new bodies (other meshes), each new one replaces the least recently
+used object the current position does not need, instead of piling up beside it.
 """
 
 from __future__ import annotations

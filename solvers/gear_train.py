@@ -59,6 +59,7 @@ from solvers.contact import ContactProblem, RigidUnknown, Spring, StiffnessBlock
 from solvers.contact_grid import ContactGrid
 from solvers.elastic_body import Dirichlet, ElasticBody, LinearSolver, Material
 from solvers.flank_grid import FlankGridInfo, flank_contact_pairs, is_coast, mesh_name
+from solvers.modulus_scaling import ScaledBody, with_material
 from solvers.rigid_coupling import RigidCoupling
 from solvers.superelement import Superelement
 
@@ -151,7 +152,8 @@ def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> li
     """The elastic bodies of the scene's gears, each in its own frame and placed in the scene:
     the sun bore slaved to its axis, every pinion bore slaved to its centre (all six DOFs
     held as rigid unknowns), the ring held at its rim. Kept in ``store`` by (mesh, degree,
-    material, supports)."""
+    Poisson ratio, supports): a body of another Young's modulus is a
+    :class:`solvers.modulus_scaling.ScaledBody` of the stored one."""
     mat = Material(study.material.gear_youngs_modulus, study.material.poisson_ratio)
     ls = linear_solver(study)
     origin = (0.0, 0.0, 0.0)
@@ -181,7 +183,9 @@ def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> li
             return ElasticBody(nm, bm.bundle.mesh, bm.bundle.facet_tags, bm.tags, mat, degree,
                                linear_solver=ls, **kw)  # fmt: skip
 
-        b = _held_body(store, (bm.key, degree, mat.E, mat.nu, role, ls), make, held)
+        # keyed without E: a gear set of another modulus solves on the same factors
+        base = _held_body(store, (bm.key, degree, mat.nu, role, ls), make, held)
+        b = with_material(base, mat, ScaledBody)
         b.place(_rotation_z(g.placement.angle), (*g.placement.centre, 0.0))
         bodies.append(b)
     return bodies

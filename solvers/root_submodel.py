@@ -61,6 +61,7 @@ from solvers.body_store import BodyStore
 from solvers.elastic_body import Material, mpi_sum
 from solvers.gap_operator import locate
 from solvers.gear_train import contact_grids
+from solvers.modulus_scaling import ScaledSubmodel, with_material
 from solvers.rigid_coupling import rigid_modes
 from solvers.root_stress import (
     body_root_stress,
@@ -382,8 +383,9 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
             raise SubmodelError(f"root stress submodel of {key}: {exc}") from exc
         gb = p.bodies[body]
         mat = gb.material
+        # keyed without E: a gear set of another modulus reads on the same sector
         skey = ("submodel", json.dumps(body_params(sb, level_record(lv)), sort_keys=True),
-                degree, mat.E, mat.nu)  # fmt: skip
+                degree, mat.nu)  # fmt: skip
 
         def make(sb=sb, mat=mat, internal=gear.internal, comm=gb.comm):
             bundle = load_body(sb, lv, comm)
@@ -392,7 +394,7 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
                                 cut_names(sb.body, internal))  # fmt: skip
 
         built = store.built
-        sub = store.keep(skey, make)
+        sub = with_material(store.keep(skey, make), mat, ScaledSubmodel)
         t0 = time.perf_counter()
         start = first - SUBMODEL_MARGIN
         angle = sector_turn(gear, first)
