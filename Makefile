@@ -189,7 +189,7 @@ convergence: $(STAMP) ## discretisation error of every scalar: make convergence 
 # split too (the level-1 run reads a level-3 sector for each of its six loaded fillets),
 # its level 2 (1.8M DOFs) out of core: 23 GB of factors on disk, 5.7 GB in memory, serves
 # case 2.
-# The two ladders take about 128 min alone on 2 cores (recorded 2026-11-27), more than
+# The two ladders take about 155 min alone on 2 cores (recorded 2026-11-28), more than
 # the rest of the study: their studies are recorded in the repository
 # (studies/records/convergence/<case>/, with the commit and source hash they were solved
 # with), and `make` runs a ladder only where no record of its gear set, scene, numerics and
