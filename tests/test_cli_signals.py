@@ -1,0 +1,44 @@
+"""A serial entry point stops on SIGTERM as on Ctrl-C (studies.cli.interrupt_on_sigterm):
+its ``finally`` blocks run, so the temporary folders it made (a convergence ladder's
+out-of-core factor files, tens of GB at level 2) are removed, and it ends with the
+interrupted exit code and one line, no traceback."""
+
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+from studies.cli import EXIT_INTERRUPTED
+
+REPO = Path(__file__).resolve().parents[1]
+
+# the child: a guarded body that makes a folder, says where, and waits in a try/finally
+CHILD = """
+import shutil, sys, tempfile, time
+from studies.cli import guarded
+
+def body():
+    folder = tempfile.mkdtemp(prefix="ooc-run-", dir=sys.argv[1])
+    try:
+        print(folder, flush=True)
+        time.sleep(60)
+    finally:
+        shutil.rmtree(folder)
+
+sys.exit(guarded(body))
+"""
+
+
+def test_sigterm_unwinds_and_removes_the_folder(tmp_path):
+    """Without the handler SIGTERM ends the process at once: the folder stays and the exit
+    status is -15, so both assertions fail."""
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(tmp_path)], cwd=REPO,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    folder = Path(proc.stdout.readline().strip())
+    assert folder.is_dir()
+    os.kill(proc.pid, signal.SIGTERM)
+    _, err = proc.communicate(timeout=30)
+    assert proc.returncode == EXIT_INTERRUPTED
+    assert not folder.exists()
+    assert err.strip() == "error: interrupted (stopped by SIGTERM)"
