@@ -77,24 +77,26 @@ def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt(f"stopped by {signal.Signals(signum).name}")
 
 
-def interrupt_on_sigterm() -> None:
+def interrupt_on_sigterm():
     """Let SIGTERM (``kill``, a batch system's time limit) unwind a serial process as Ctrl-C
     does, so its ``finally`` blocks run: the out-of-core factor folders of a convergence
     ladder (tens of GB at level 2) are removed instead of left in the temporary folder.
     Under MPI (``mpi4py`` imported, more than one rank) SIGTERM keeps its default: a rank
-    unwinding alone could wait forever in a collective call for the others."""
+    unwinding alone could wait forever in a collective call for the others. Returns the
+    handler it replaced (None if it left SIGTERM alone)."""
     mpi = sys.modules.get("mpi4py.MPI")
     if mpi is not None and mpi.COMM_WORLD.Get_size() > 1:
-        return
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGTERM, _interrupt)
+        return None
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.signal(signal.SIGTERM, _interrupt)
 
 
 def guarded(body, *, traceback: bool = False) -> int:
     """Run an entry point's ``body()`` and turn a failure into one line ``error: ...`` on
     stderr and the pipeline's exit code (with ``traceback``, re-raise for a bug report).
     A serial process stops on SIGTERM as on Ctrl-C (:func:`interrupt_on_sigterm`)."""
-    interrupt_on_sigterm()
+    before = interrupt_on_sigterm()
     try:
         body()
     except KeyboardInterrupt as exc:
@@ -107,4 +109,7 @@ def guarded(body, *, traceback: bool = False) -> int:
             raise
         print(f"error: {one_line(exc)}", file=sys.stderr)
         return exit_code(exc)
+    finally:
+        if before is not None:  # the caller's handler again (a test process, a notebook)
+            signal.signal(signal.SIGTERM, before)
     return EXIT_OK

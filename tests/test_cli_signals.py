@@ -42,3 +42,19 @@ def test_sigterm_unwinds_and_removes_the_folder(tmp_path):
     assert proc.returncode == EXIT_INTERRUPTED
     assert not folder.exists()
     assert err.strip() == "error: interrupted (stopped by SIGTERM)"
+
+
+def test_guarded_gives_the_handler_back():
+    """Inside the body SIGTERM interrupts; after it the caller's handler is back (pytest's
+    process, a notebook), whether the body ended or failed."""
+    import threading
+
+    from studies import cli
+
+    before = signal.getsignal(signal.SIGTERM)
+    seen = []
+    assert cli.guarded(lambda: seen.append(signal.getsignal(signal.SIGTERM))) == cli.EXIT_OK
+    assert cli.guarded(lambda: 1 / 0) == cli.EXIT_INTERNAL
+    assert signal.getsignal(signal.SIGTERM) is before
+    if threading.current_thread() is threading.main_thread():
+        assert seen == [cli._interrupt]
