@@ -187,7 +187,7 @@ convergence: $(STAMP) ## discretisation error of every scalar: make convergence 
 # root stress's driver and submodel errors split (peak at level 2, 1.1M DOFs: the fine root
 # fillets) serves every case-1 case (same gear set, scene, numerics); 2B-GA at levels 0 1 2,
 # split too (the level-1 run reads a level-3 sector for each of its six loaded fillets),
-# its level 2 (1.8M DOFs) out of core: 23 GB of factors on disk, 5.7 GB in memory, serves
+# its level 2 (1.8M DOFs) out of core: 23 GB of factors on disk, 6.7 GB in memory, serves
 # case 2.
 # The two ladders take about 155 min alone on 2 cores (recorded 2026-11-28), more than
 # the rest of the study: their studies are recorded in the repository
