@@ -102,7 +102,7 @@ def guarded(body, *, traceback: bool = False) -> int:
     except KeyboardInterrupt as exc:
         if traceback:
             raise
-        print(f"error: interrupted ({exc or 'Ctrl-C'})", file=sys.stderr)
+        print(f"error: interrupted ({str(exc) or 'Ctrl-C'})", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Exception as exc:
         if traceback:

@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from studies.cli import EXIT_INTERRUPTED
 
 REPO = Path(__file__).resolve().parents[1]
@@ -30,18 +32,21 @@ sys.exit(guarded(body))
 """
 
 
-def test_sigterm_unwinds_and_removes_the_folder(tmp_path):
+@pytest.mark.parametrize(("sig", "why"), [(signal.SIGTERM, "stopped by SIGTERM"),
+                                          (signal.SIGINT, "Ctrl-C")])  # fmt: skip
+def test_a_signal_unwinds_and_removes_the_folder(tmp_path, sig, why):
     """Without the handler SIGTERM ends the process at once: the folder stays and the exit
-    status is -15, so both assertions fail."""
+    status is -15, so both assertions fail. Ctrl-C (SIGINT) ends the same way, and says
+    so."""
     proc = subprocess.Popen([sys.executable, "-c", CHILD, str(tmp_path)], cwd=REPO,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
     folder = Path(proc.stdout.readline().strip())
     assert folder.is_dir()
-    os.kill(proc.pid, signal.SIGTERM)
+    os.kill(proc.pid, sig)
     _, err = proc.communicate(timeout=30)
     assert proc.returncode == EXIT_INTERRUPTED
     assert not folder.exists()
-    assert err.strip() == "error: interrupted (stopped by SIGTERM)"
+    assert err.strip() == f"error: interrupted ({why})"
 
 
 def test_guarded_gives_the_handler_back():
