@@ -32,14 +32,22 @@ sys.exit(guarded(body))
 """
 
 
+def _sigint_default():
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize(("sig", "why"), [(signal.SIGTERM, "stopped by SIGTERM"),
                                           (signal.SIGINT, "Ctrl-C")])  # fmt: skip
 def test_a_signal_unwinds_and_removes_the_folder(tmp_path, sig, why):
     """Without the handler SIGTERM ends the process at once: the folder stays and the exit
     status is -15, so both assertions fail. Ctrl-C (SIGINT) ends the same way, and says
     so."""
+    # a shell that starts a job in the background (`make test &`) ignores SIGINT in it, and
+    # a Python started with SIGINT ignored never installs its Ctrl-C handler: give the
+    # child a terminal's default, as a user at a prompt has
     proc = subprocess.Popen([sys.executable, "-c", CHILD, str(tmp_path)], cwd=REPO,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_sigint_default)  # fmt: skip
     folder = Path(proc.stdout.readline().strip())
     assert folder.is_dir()
     os.kill(proc.pid, sig)
