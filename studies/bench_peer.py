@@ -323,7 +323,7 @@ def ccx_root_stress(scene, level: int, deck, u: dict, ours_bs: dict) -> dict:
         body = SimpleNamespace(name=name, mesh=mesh, facet_tags=bm.bundle.facet_tags,
                                tags=bm.tags, comm=MPI.COMM_SELF, gdim=3, degree=1,
                                material=Material(deck.E, deck.nu))  # fmt: skip
-        recs = RS._body_root_stress(body, fn, scene.gear(name).gear, keys, (0.0, 0.0, 0.0))
+        recs = RS.body_root_stress(body, fn, scene.gear(name).gear, keys)
         for k, rec in recs.items():
             lo = locs[k]
             if lo.get("tooth") is not None and rec.get("value") is not None:
