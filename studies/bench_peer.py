@@ -34,6 +34,7 @@ import shutil
 import subprocess
 import sys
 import time
+import traceback
 from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
@@ -547,6 +548,7 @@ def main(argv=None) -> int:
         nargs="*",
         type=float,
         metavar="FACTOR",
+        default=[],
         help="at the first level, also run ccx with these penalty factors (E*/h), ours unchanged",
     )
     a = ap.parse_args(argv)
@@ -611,6 +613,7 @@ def main(argv=None) -> int:
             except Exception as e:  # report what failed, keep the other runs
                 row["ccx"] = {"error": f"{type(e).__name__}: {e}"}
                 print(f"{tag}: CalculiX result unusable: {e}", flush=True)
+                traceback.print_exc()  # a bug of the read-back, not a ccx failure, shows here
             rows = [r for r in rows if (r["case"], r["level"]) != (case, level)] + [row]
             rows.sort(key=lambda r: (r["case"], r["level"]))
             write_report(rows, a.out, _notes(a), why_they_differ(rows))
