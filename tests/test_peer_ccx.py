@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -253,3 +254,52 @@ def test_centroid_split_moves_ccx_forces_to_our_centroids():
     assert np.allclose(_centroid_split(ours, ccx), [0.0, 0.0])
     ccx["meshes"]["b"]["force_pinion_N"] = [0.0, 0.0, 0.0]
     assert np.allclose(_centroid_split(ours, ccx), [-1.0, 0.0])
+
+
+def test_ccx_root_stress_reads_a_field_as_our_own_routine_does():
+    """The read-back of ccx's displacement into our root-stress routine (node matching by
+    coordinates, scene -> body frame), without ccx: a displacement given at ccx's numbered
+    nodes in the scene frame must give the values our routine gives for the same field
+    interpolated on our own mesh in the body frame. Quadratic in x, so both the node order
+    and the turn matter (a wrong sign of the turn changes the stresses)."""
+    import dolfinx
+    from mpi4py import MPI
+
+    from meshing.scene_bodies import load_body_meshes
+    from solvers import root_stress as RS
+    from solvers.elastic_body import Material
+    from studies.bench_peer import build_deck, ccx_root_stress
+
+    def u_scene(x):  # (n, 3) scene-frame points -> (n, 3) displacement, mm
+        return 1e-5 * np.c_[x[:, 0] ** 2, x[:, 0] * x[:, 1], 0.5 * x[:, 1] ** 2 + x[:, 2] ** 2]
+
+    _, scene, deck, _, _ = build_deck("1-GA", 0, 0.0, 100.0, 1e3)
+    P.number(deck.bodies)
+    u = {}
+    for b in deck.bodies:
+        for i, v in enumerate(u_scene(b.points)):
+            u[b.node0 + 1 + i] = v
+    keyed: dict[str, dict[str, list[int]]] = {}
+    for key, name, _, _ in RS.loaded_fillets(scene):
+        keyed.setdefault(name, {})[key] = [0, 1]
+    ours_bs = {"locations": {k: {"teeth": t, "tooth": None} for v in keyed.values()
+                             for k, t in v.items()}}  # fmt: skip
+    got = ccx_root_stress(scene, 0, deck, u, ours_bs)
+    meshes = load_body_meshes(scene, 0, MPI.COMM_SELF)
+    for name, keys in keyed.items():
+        bm, pl = meshes[name], scene.gear(name).placement
+        V = dolfinx.fem.functionspace(bm.bundle.mesh, ("Lagrange", 1, (3,)))
+        xb = V.tabulate_dof_coordinates()
+        a = -pl.angle  # scene -> body: the turn back by the placement angle
+        R = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0, 0, 1.0]])
+        fn = dolfinx.fem.Function(V)
+        fn.x.array[:] = (u_scene(pl.apply(xb)) @ R.T).ravel()
+        body = SimpleNamespace(name=name, mesh=bm.bundle.mesh, facet_tags=bm.bundle.facet_tags,
+                               tags=bm.tags, comm=MPI.COMM_SELF, gdim=3, degree=1,
+                               material=Material(deck.E, deck.nu))  # fmt: skip
+        want = RS.body_root_stress(body, fn, scene.gear(name).gear, keys)
+        for k in keys:
+            assert want[k]["value"] > 1.0  # a field that stresses the fillets read
+            # the same nodal values through the same routine: equal to round-off
+            assert got[k]["value"] == pytest.approx(want[k]["value"], rel=1e-9), k
+            assert got[k]["tangent"] == pytest.approx(want[k]["tangent"], rel=1e-9), k
