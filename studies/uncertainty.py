@@ -12,7 +12,7 @@ what was looked for and where.
 
 Where to look: the studies of this machine (``<results>/convergence``) first, then the
 recorded ones (:data:`RECORDS`, ``studies/records/convergence/<case>/``, kept in the
-repository): the mesh ladders behind the main study's ± take 107 min on 2 cores, more than
+repository): the mesh ladders behind the main study's ± take about 155 min on 2 cores, more than
 the rest of the study, so ``make convergence-main RECORD=1`` writes their studies there
 once and ``make`` runs a ladder only where no record matches (:func:`recorded`). A record
 keeps the commit it was solved on and its runs keep their source hash; a summary that takes
@@ -75,15 +75,29 @@ def _studies(folder: Path, name: str, key: dict):
             yield path, conv
 
 
+def failed_runs(conv: dict) -> list[str]:
+    """Labels of the runs a convergence study holds as failed (an ``error``: out of memory,
+    a timeout, a solver error)."""
+    return [str(r.get("label")) for r in conv.get("runs") or []
+            if isinstance(r, dict) and "error" in r]  # fmt: skip
+
+
 def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> Path | None:
     """The record (its convergence.json) of a convergence study of ``study``'s match key
     run with ``ladder`` (levels, extra runs, positions, split root stress; what
-    :mod:`studies.convergence` writes as ``ladder``), or None."""
+    :mod:`studies.convergence` writes as ``ladder``) and every run of it finished, or None.
+    A record with a failed run is not one: ``--record`` writes what finished (1-GB's level 1
+    timed out on 2026-11-28 and was recorded without it), and ``--unless-recorded`` would
+    then never solve the missing run; it is named on stdout."""
     if records is None:
         return None
     for path, conv in _studies(records, study.name, match_key(study)):
         if conv.get("ladder") == ladder:
-            return path
+            failed = failed_runs(conv)
+            if not failed:
+                return path
+            print(f"{study.name}: the record {path} has this ladder but not the run(s) "
+                  f"{', '.join(failed)} (failed when recorded): it does not count")  # fmt: skip
     return None
 
 

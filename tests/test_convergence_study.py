@@ -14,7 +14,14 @@ from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import recommend, scalar_table, target
 from studies.case_variants import coarse_root_fillets, global_root_stress
 from studies.files import read_json, write_json
-from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded, summary_uncertainty
+from studies.uncertainty import (
+    RECORDS,
+    STUDY_FILE,
+    failed_runs,
+    match_key,
+    recorded,
+    summary_uncertainty,
+)
 
 LIMITS = {
     "My_pin": 40.0,
@@ -226,6 +233,25 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     assert "results" in got["uncertainty_source"]["convergence_study"]
 
 
+def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
+    """--record writes what finished; a record missing a ladder run (a timeout) must not stop
+    make's --unless-recorded from solving the ladder again, and says why."""
+    from studies.convergence import record
+
+    gb = load_study_case("1-GB")
+    ladder = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
+    runs = [{"label": "L0P1"}, {"label": "L1P1", "error": "timeout after 3600 s"},
+            {"label": "L2P1"}]  # fmt: skip
+    conv = {"case": "1-GB", "match": match_key(gb), "labels": ladder["runs"], "positions": 1,
+            "code_hash": "x", "ladder": ladder, "scalars": scalar_table(ROWS),
+            "runs": runs}  # fmt: skip
+    path = record(tmp_path / "study", conv, tmp_path / "records")
+    assert recorded(gb, ladder, tmp_path / "records") is None
+    assert "not the run(s) L1P1 (failed when recorded)" in capsys.readouterr().out
+    write_json(path, {**read_json(path), "runs": [runs[0], {"label": "L1P1"}, runs[2]]})
+    assert recorded(gb, ladder, tmp_path / "records") == path
+
+
 @pytest.mark.parametrize("case", ["1-GB", "2B-GA"])
 def test_the_recorded_ladders_match_their_cases(case):
     """The records behind the main study's ± (make convergence-main RECORD=1) are of today's
@@ -239,6 +265,7 @@ def test_the_recorded_ladders_match_their_cases(case):
         f"{path} is of other inputs: make convergence-main RECORD=1"
     )
     assert conv["scalars"] and conv["recorded"]["git_revision"] and conv["runs_code_hash"]
+    assert not failed_runs(conv), f"{path} misses failed runs: make convergence-main RECORD=1"
 
 
 @pytest.mark.parametrize(
