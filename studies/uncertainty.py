@@ -28,7 +28,7 @@ import json
 from pathlib import Path
 
 from cases.study_case import StudyCase, study_inputs
-from postprocess.convergence import uncertainty_for
+from postprocess.convergence import run_label, uncertainty_for
 from studies.files import ResultFileError, read_json
 from studies.provenance import code_hash
 
@@ -125,7 +125,10 @@ def summary_uncertainty(
         found += list(_studies(records, study.name, key))
     if found:
         now = [code_hash()]
-        path, conv = next(((p, c) for p, c in found if solved_with(c) == now), found[0])
+        # a study whose run at this level failed (a timeout) gives no ± there: the next one
+        label = run_label(level, degree)
+        have = [(p, c) for p, c in found if label in c.get("labels", [])] or found
+        path, conv = next(((p, c) for p, c in have if solved_with(c) == now), have[0])
         out = uncertainty_for(conv, level, degree, str(path))
         src = out["uncertainty_source"]
         src["code_changed"] = solved_with(conv) != now

@@ -252,6 +252,32 @@ def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
     assert recorded(gb, ladder, tmp_path / "records") == path
 
 
+def test_a_study_without_the_run_of_the_level_does_not_stand_before_one_with_it(tmp_path):
+    """A study of this machine by today's code whose level-1 run failed (its labels lack
+    L1P1) gives no ± at level 1; a record that has the run is taken instead, not a silent
+    'no uncertainty'."""
+    from studies.convergence import record
+    from studies.provenance import code_hash
+
+    ga, gb = load_study_case("1-GA"), load_study_case("1-GB")
+    full = {"case": "1-GB", "match": match_key(gb), "labels": [r["label"] for r in ROWS],
+            "positions": 1, "code_hash": "x", "runs_code_hash": ["1" * 16],
+            "ladder": {"runs": ["L0P1", "L1P1", "L2P1"]},
+            "scalars": scalar_table(ROWS)}  # fmt: skip
+    path = record(tmp_path / "study", full, tmp_path / "records")
+    rows = [r for r in ROWS if r["label"] != "L1P1"]
+    broken = {**full, "labels": [r["label"] for r in rows], "runs_code_hash": [code_hash()],
+              "scalars": scalar_table(rows)}  # fmt: skip
+    (tmp_path / "results" / "convergence" / "1-GB").mkdir(parents=True)
+    write_json(tmp_path / "results" / "convergence" / "1-GB" / STUDY_FILE, broken)
+    got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=tmp_path / "records")
+    assert got["uncertainty_source"]["convergence_study"] == str(path)
+    assert got["uncertainty"]["My_pin"] == full["scalars"]["My_pin"]["uncertainty"]["L1P1"]
+    # at level 0 both have the run: today's code first, as before
+    got = summary_uncertainty(ga, 0, 1, tmp_path / "results", records=tmp_path / "records")
+    assert "results" in got["uncertainty_source"]["convergence_study"]
+
+
 @pytest.mark.parametrize("case", ["1-GB", "2B-GA"])
 def test_the_recorded_ladders_match_their_cases(case):
     """The records behind the main study's ± (make convergence-main RECORD=1) are of today's
