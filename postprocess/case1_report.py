@@ -21,7 +21,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from postprocess.convergence import convergence_links, plus_minus, uncertainty_note
+from postprocess.convergence import convergence_links, uncertainty_note
+from postprocess.plus_minus import plus_minus
 from postprocess.stress_tables import contact_section, root_section
 
 CASES = ("1-GA", "1-GB", "1-GC", "1-GB-R")

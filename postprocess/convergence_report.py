@@ -14,6 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter, NullFormatter, PercentFormatter
 
+from postprocess.convergence import SAFETY_TWO_GRID
 from postprocess.convergence_study import P_CAP
 
 CHART = "speed_error.png"
@@ -240,6 +241,13 @@ def write_report(conv: dict, folder: Path) -> Path:
         "the spread of the levels.",
         "",
     ]
+    if any(s.get("status") == "two-grid" for s in conv["scalars"].values()):
+        lines += [
+            "This study has two finished ladder levels only: no extrapolation; U is Roache's "
+            f"two-grid GCI with factor of safety {SAFETY_TWO_GRID:g} and the formal order "
+            "(status `two-grid`).",
+            "",
+        ]
     lines += _h_measure(conv)
     lines += _runs_code(conv)
     lines += ["## Runs", "", *_runs_table(conv), ""]

@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 
 from gears.analytic import printed
-from postprocess.convergence import plus_minus
+from postprocess.plus_minus import plus_minus
 
 #: the goal of issue 12 for the whole ``make`` on 2 cores at the default level
 GOAL_WALL_S = 20 * 60.0
@@ -291,7 +291,8 @@ def _trends_section(runs: list[tuple[Path, dict]]) -> list[str]:
         at = a["analytic"].get("at_fe_ZS_ZR", {})
         if at:
             lines.append(
-                f"- The rigid bearing gives moments close to the closed form: {a['case']} My_pin "
+                f"- The stiffest bearing run ({a['case']}: {a.get('description', '')}) against "
+                f"the closed form: My_pin "
                 f"{a['My_pin']:.1f} against {at['My_pin']:.1f} N m at its own ZS, ZR "
                 f"({100 * (a['My_pin'] / at['My_pin'] - 1):+.1f} %)."
             )
@@ -299,7 +300,8 @@ def _trends_section(runs: list[tuple[Path, dict]]) -> list[str]:
         a, b = double[0], double[-1]
         t5, at = a["analytic"]["table5"], a["analytic"]["at_fe_centroids"]
         lines.append(
-            f"- Double pinion, rigid bearing ({a['case']}): LOA moments "
+            f"- Double pinion, the stiffest bearing run ({a['case']}: "
+            f"{a.get('description', '')}): LOA moments "
             + ", ".join(f"{a[k]:.1f}" for k in DOUBLE[:4])
             + " against the closed form at the FE's own load centroids "
             + ", ".join(f"{at[k]:.1f}" for k in DOUBLE[:4])
@@ -356,45 +358,8 @@ def _convergence_lines(results: Path) -> list[str]:
 def _bench_section(results: Path) -> list[str]:
     bench = results / "bench"
     lines = ["## Speed against error", ""]
-    rows_found = False
-    for path in sorted(bench.glob("*speed_error.json")):
-        b = _json(path)
-        if not b or "rows" not in b:
-            continue
-        rows_found = True
-        goal = b.get("goal") or {}
-        lines += [
-            f"{_link(path, results)} (case {b.get('case', '?')}, one mesh position; changes "
-            "against the finest run):",
-            "",
-            "| level | degree | DOFs | time (s) | memory (MB) | My_pin | M_LOA_sun | M_LOA_ring"
-            " | max change of the moments | ZS / ZR change (mm) |",
-            "|---|---|---|---|---|---|---|---|---|---|",
-        ]
-        for r in b["rows"]:
-            if "error" in r:
-                lines.append(f"| {r['level']} | {r['degree']} | failed: {r['error']} |||||||")
-                continue
-            rel = [v for v in r.get("rel_change_vs_finest", {}).values() if v is not None]
-            dz = r.get("abs_change_vs_finest_mm", {})
-            lines.append(
-                f"| {r['level']} | {r['degree']} | {r['dofs']} | {r['time_s']['total']:.1f} | "
-                f"{r['peak_rss_mb']:.0f} | {r['My_pin']:.2f} | {r['M_LOA_sun']:.2f} | "
-                f"{r['M_LOA_ring']:.2f} | "
-                + ("finest" if r.get("is_finest") else f"{max(rel):.2%}" if rel else "-")
-                + f" | {dz.get('ZS', 0):.2f} / {dz.get('ZR', 0):.2f} |"
-            )
-        if goal:
-            lines += [
-                "",
-                f"Goal: {goal.get('what', '')}: {'met' if goal.get('met') else 'not met'}.",
-            ]
-        png = path.with_suffix(".png")
-        if png.is_file():
-            lines += ["", _image(png, results, path.stem)]
-        lines.append("")
     lines += _convergence_lines(results)
-    rows_found = rows_found or (results / "convergence").is_dir()
+    rows_found = (results / "convergence").is_dir()
     study = _json(bench / "study.json")
     if study:
         rows_found = True

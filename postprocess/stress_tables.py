@@ -14,7 +14,7 @@ contact_stress_cycle`). Older summaries without a field print "-".
 
 from __future__ import annotations
 
-from postprocess.convergence import plus_minus
+from postprocess.plus_minus import plus_minus
 
 
 def _f(v, fmt: str = ".0f") -> str:

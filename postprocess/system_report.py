@@ -19,7 +19,8 @@ import math
 import re
 from pathlib import Path
 
-from postprocess.convergence import plus_minus, uncertainty_note
+from postprocess.convergence import uncertainty_note
+from postprocess.plus_minus import plus_minus
 
 #: the columns of the comparison, per gear-set kind (single pinion: section 3's pinion
 #: frame; double pinion: section 5's SP and RP frames and the four LOA moments)
@@ -30,6 +31,11 @@ KIND_QUANTITIES = {
 }  # fmt: skip
 QUANTITIES = KIND_QUANTITIES["single_pinion"]
 OFFSETS = ("ZS", "Z_SPRP", "ZR")  # mm; the rest N m
+
+
+def _urad(rad) -> str:
+    """A rotation (rad) in urad; n/a where the summary has none (no elastic carrier)."""
+    return "n/a" if rad is None else f"{rad * 1e6:.0f}"
 
 
 def summary_kind(s: dict) -> str:
@@ -220,7 +226,7 @@ def _double_pinion_text(branch: dict, system: dict) -> list[str]:
             + f" N m (largest: {worst}); the SP-RP differential is "
             f"{s['M_LOA_SPRP_diff']:.1f} N m in the system against {b['M_LOA_SPRP_diff']:.1f} "
             f"in the branch. The carrier, held at the hub of one plate only, winds up by "
-            f"{s.get('carrier_windup_rad', 0.0) * 1e6:.0f} urad (mean pin rotation about the "
+            f"{_urad(s.get('carrier_windup_rad'))} urad (mean pin rotation about the "
             "sun axis) under the pin loads; the pins, anchored in both plates, follow the "
             "plates' unequal wind-up and lean, which moves Mx of SP and RP most; in the branch "
             "the pins are rigid.",
@@ -318,10 +324,11 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
               "|---|---|---|---|---|---|"]  # fmt: skip
     for name, s in system.items():
         shares = ", ".join(f"{p['angle_deg']:.3f}: {p['load_share']:.4f}" for p in s["pinions"])
-        sc = s.get("sun_centre_displacement_mm", [0.0, 0.0])
+        sc = s.get("sun_centre_displacement_mm")
+        centre = "n/a" if sc is None else f"({sc[0] * 1e3:+.2f}, {sc[1] * 1e3:+.2f})"
         lines.append(
-            f"| {name} | {s['K_gamma']:.4f} | {shares} | ({sc[0] * 1e3:+.2f}, "
-            f"{sc[1] * 1e3:+.2f}) | {s.get('carrier_windup_rad', 0.0) * 1e6:.0f} | "
+            f"| {name} | {s['K_gamma']:.4f} | {shares} | {centre} | "
+            f"{_urad(s.get('carrier_windup_rad'))} | "
             f"{s.get('torque_balance_rel', float('nan')):.1e} |"
         )
     lines += ["", *_spacing_text(next(iter(system.values())))]

@@ -17,6 +17,7 @@ import ufl
 from mpi4py import MPI
 
 from postprocess import convergence as cv
+from postprocess.plus_minus import NOT_CARRIED, OFFSET_REL_MAX, plus_minus
 from solvers.elastic_body import Dirichlet, ElasticBody, Material, Traction
 
 LADDER = (1.0, 0.7, 0.45)  # the flank element sizes of levels 0, 1, 2 (meshing.sizing)
@@ -176,13 +177,39 @@ def test_uncertainty_entry_and_plus_minus():
     got = cv.uncertainty_for(study, 1, 1, "results/convergence/1-GB/convergence.json")
     assert got["uncertainty"] == {"My_pin": 0.02, "ZS": 0.5}
     assert got["uncertainty_source"]["case"] == "1-GB"
-    summary = {**SUMMARY, **got}
-    assert cv.plus_minus(summary, "My_pin") == " ± 0.8"  # 2 % of 40 N m
-    assert cv.plus_minus(summary, "ZS", ".2f") == " ± 0.10"  # offsets: absolute mm
-    assert cv.plus_minus(summary, "Mx_pin") == ""
+    summary = {**SUMMARY, **got, "case": "1-GB"}
+    assert plus_minus(summary, "My_pin") == " ± 0.8"  # 2 % of 40 N m
+    assert plus_minus(summary, "ZS", ".2f") == " ± 0.10"  # the study's own case: absolute mm
+    assert plus_minus(summary, "Mx_pin") == ""
     none = cv.uncertainty_for(study, 3, 1, "x.json")
     assert none["uncertainty"] is None and "no run at level 3" in none["uncertainty_source"]["note"]
-    assert cv.plus_minus({**SUMMARY, **none}, "My_pin") == ""
+    assert plus_minus({**SUMMARY, **none}, "My_pin") == ""
+
+
+def test_an_offset_carries_its_relative_uncertainty_to_another_case_or_none():
+    """Another case of the gear set (its summary takes the study of 1-GB or 2B-GA): a
+    moment's ± is the relative U times its own value; an offset's is too where the study's
+    offset is clear of zero, and none where it is not: 2B-GA's ZS (-0.012 mm, U 0.017 mm)
+    printed as 2B-GB's ± on -3.69 mm said ± 0.02 (the 2B-GA record; before the fix), and
+    f_ma_SPRP_um (2B-GA 0.081 um, U 1.1 %) said ± 0.00 on 2B-GB's 7.6 um."""
+    src = {"case": "2B-GA"}
+    study_u = {"ZS": 1.37, "f_ma_SPRP_um": 0.0106, "M_LOA_SPRP_diff": 0.0106}
+    study_abs = {"ZS": 0.017, "f_ma_SPRP_um": 0.00086, "M_LOA_SPRP_diff": 0.26}
+    gb = {"case": "2B-GB", "ZS": -3.69, "f_ma_SPRP_um": 7.6, "M_LOA_SPRP_diff": 30.0,
+          "uncertainty": study_u, "uncertainty_abs": study_abs,
+          "uncertainty_source": src}  # fmt: skip
+    assert plus_minus(gb, "M_LOA_SPRP_diff") == " ± 0.3"  # 1.06 % of 30 N m
+    assert plus_minus(gb, "f_ma_SPRP_um", ".2f") == " ± 0.08"  # 1.06 % of 7.6 um
+    assert plus_minus(gb, "ZS", ".2f") == NOT_CARRIED  # the study's ZS is within its U of 0
+    ga = {**gb, "case": "2B-GA", "ZS": -0.012, "f_ma_SPRP_um": 0.081}
+    assert plus_minus(ga, "ZS", ".3f") == " ± 0.017"  # its own case: the absolute U
+    assert plus_minus(ga, "f_ma_SPRP_um", ".4f") == " ± 0.0009"
+    # the threshold: just below it the relative U carries, just above it none
+    assert plus_minus({**gb, "uncertainty": {"ZS": OFFSET_REL_MAX}}, "ZS", ".2f") == " ± 0.92"
+    above = {**gb, "uncertainty": {"ZS": OFFSET_REL_MAX * 1.01}}
+    assert plus_minus(above, "ZS", ".2f") == NOT_CARRIED
+    # no uncertainty for the key at all: nothing printed, as for a moment
+    assert plus_minus({**gb, "uncertainty": {}, "uncertainty_abs": {}}, "ZS") == ""
 
 
 # ------------------------------------------------------------------ an FE case with a limit

@@ -442,11 +442,20 @@ def test_a_killed_child_leaves_no_factor_files(tmp_path, monkeypatch):
     assert root.is_dir() and not any(root.iterdir())
 
 
-def test_two_levels_give_the_two_grid_gci():
+def test_two_levels_give_the_two_grid_gci(tmp_path):
     """A ladder of two levels (the third did not fit): every scalar gets Roache's two-grid
     GCI at both levels with the formal order of its kind (stress 1, moment 2), no
-    extrapolated value and no error."""
+    extrapolated value and no error; the report says so where it states the method."""
     table = scalar_table(ROWS[:2])
+    conv = {"case": "x", "match": {"gearset": "case1", "scene": "one_branch"},
+            "positions_note": "One position.", "ladder_degree": 1, "labels": ["L0P1", "L1P1"],
+            "runs": ROWS[:2], "skipped": [], "scalars": table}  # fmt: skip
+    conv["recommendation"] = recommend(ROWS[:2], table)
+    text = write_report(conv, tmp_path).read_text()
+    assert "two finished ladder levels only" in text and "factor of safety 3" in text
+    three = {**conv, "scalars": scalar_table(ROWS[:3]), "runs": ROWS[:3]}
+    three["recommendation"] = recommend(ROWS[:3], three["scalars"])
+    assert "two finished ladder levels" not in write_report(three, tmp_path).read_text()
     my, bs = table["My_pin"], table["bending_stress.sun"]
     assert my["status"] == bs["status"] == "two-grid"
     assert my["extrapolated"] is None and my["rel_error"] == {"L0P1": None, "L1P1": None}

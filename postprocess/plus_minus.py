@@ -1,0 +1,53 @@
+"""The ± a report prints beside a value of a case summary, from the summary's
+``uncertainty`` (:func:`postprocess.convergence.uncertainty_for`: the relative uncertainty of
+each scalar in the convergence study of its gear set, scene and numerics).
+
+A moment or a stress takes the study's relative uncertainty times its own value: every case
+of a gear set shares the study of one of them (1-GB's for case 1, 2B-GA's for case 2), and
+it is the relative error that carries between cases whose bearings differ.
+
+An offset (``Z*``, ``*_mm``, ``*_um``: load-centroid offsets, misalignments) can sit near
+zero, where its relative uncertainty says nothing. In the study's own case it takes the
+study's absolute uncertainty (there the same number as the relative one times the value).
+In another case the absolute one would be wrong: 2B-GA (rigid bearing) has ZS = -0.012 mm
+with U = 0.017 mm, 2B-GB has ZS = -3.69 mm. So another case takes the relative one only where
+the study's offset is clear of zero (U at most :data:`OFFSET_REL_MAX` of it: 1-GB's ZS 3.1 %,
+2B-GA's f_ma_SPRP_um 1.1 %); otherwise :data:`NOT_CARRIED` is printed, not a number.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from postprocess.convergence import lookup, scalar_kind
+
+#: an offset whose relative uncertainty in the study is above this is within four U of zero
+#: there: its error is the study's absolute floor, which does not scale to another case's
+#: offset, so none is carried (2B-GA at level 1: ZS 137 %, ZR 54 %, Z_SPRP 2.8 %)
+OFFSET_REL_MAX = 0.25
+#: printed in place of an offset's ± that the study cannot give this case
+NOT_CARRIED = " ± n/a"
+
+
+def _number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def plus_minus(summary: Mapping, key: str, fmt: str = ".1f", value: float | None = None) -> str:
+    """`` ± x`` (in the value's unit) for ``key`` of a summary with an ``uncertainty``
+    ('' without one, or where the study gives none for the key); ``value`` the printed
+    value when it is not the summary's own at ``key`` (a maximum, a derived form)."""
+    rel = (summary.get("uncertainty") or {}).get(key)
+    absolute = (summary.get("uncertainty_abs") or {}).get(key)
+    value = lookup(summary, key) if value is None else value
+    if scalar_kind(key) != "offset":
+        u = rel * abs(value) if _number(rel) and _number(value) else None
+        return "" if u is None else f" ± {format(u, fmt)}"
+    study_case = (summary.get("uncertainty_source") or {}).get("case")
+    if study_case is not None and study_case == summary.get("case"):
+        return "" if not _number(absolute) else f" ± {format(absolute, fmt)}"
+    if absolute is None and rel is None:
+        return ""  # the study has no uncertainty for this key at all
+    if _number(rel) and rel <= OFFSET_REL_MAX and _number(value):
+        return f" ± {format(rel * abs(value), fmt)}"
+    return NOT_CARRIED
