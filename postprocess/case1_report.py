@@ -22,6 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from postprocess.convergence import convergence_links, uncertainty_note
+from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
 from postprocess.stress_tables import contact_section, root_section
 
@@ -63,6 +64,7 @@ def write_report(results: Path) -> Path:
         "`Table 3` the concentrated load at mid face width.",
         "",
         uncertainty_note(runs),
+        *failed_positions_lines(runs),
         "",
         "| case | level | positions | DOFs | ZS | ZR | quantity | FE | Table 7 @ FE Z | diff"
         " | Table 3 | diff |",

@@ -45,6 +45,7 @@ from gears.analytic.planetary import (
 )
 from gears.spec import GearSpec
 from postprocess.convergence import convergence_links, uncertainty_note
+from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
 from postprocess.stress_tables import contact_definition, contact_section, root_section
 
@@ -816,7 +817,7 @@ def write_report(
             f"| {name} | {_label(s)} | {s['scene']} | {s['level']} | {s['degree']} | "
             f"{len(s['positions'])} | {s['dofs']} | {s['wall_time_s']:.0f} |"
         )
-    lines += ["", uncertainty_note(runs), ""]
+    lines += ["", uncertainty_note(runs), "", *failed_positions_lines(runs)]
     lines += _moments_section(runs, ref)
     lines += _pinion_section(runs, ref)
     lines += _centroid_section(runs, singles)

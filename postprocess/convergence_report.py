@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter, NullFormatter, PercentFormatter
 
-from postprocess.convergence import SAFETY_TWO_GRID
+from postprocess.convergence import SAFETY_TWO_GRID, run_label
 from postprocess.convergence_study import P_CAP
 
 CHART = "speed_error.png"
@@ -223,6 +223,23 @@ def _runs_code(conv: dict) -> list[str]:
     ]
 
 
+def _missing_scalars(conv: dict) -> list[str]:
+    """The scalars some finished ladder runs hold and others do not (a stress read that
+    failed, a grid without contact): the study has no ± and no target for them, so the
+    verdict says nothing about them; named here, not left out silently."""
+    ladder = [r for r in conv["runs"] if "error" not in r and r.get("degree") ==
+              conv.get("ladder_degree")]  # fmt: skip
+    have = {run_label(r["level"], r["degree"]): set(r.get("scalars") or {}) for r in ladder}
+    every = set().union(*have.values()) if have else set()
+    missing = {k: [lab for lab, keys in have.items() if k not in keys] for k in sorted(every)}
+    missing = {k: labs for k, labs in missing.items() if labs}
+    if not missing:
+        return []
+    lines = ["## Scalars missing from a ladder run (no ±, no target)", ""]
+    lines += [f"- {k}: not in {', '.join(labs)}" for k, labs in missing.items()]
+    return [*lines, ""]
+
+
 def write_report(conv: dict, folder: Path) -> Path:
     """Write ``report.md`` and the chart into ``folder``; returns the report path."""
     folder = Path(folder)
@@ -267,6 +284,7 @@ def write_report(conv: dict, folder: Path) -> Path:
         same = [k for k, e in conv["scalars"].items() if e.get("status") == "mesh-independent"]
         if same:
             lines += [f"Mesh-independent (inputs, not FE results): {', '.join(same)}.", ""]
+        lines += _missing_scalars(conv)
         lines += _recommendation(conv)
     if (folder / CHART).is_file():
         lines += ["## Speed against error", "", f"![speed against error]({CHART})", ""]

@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 from gears.analytic import printed
+from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
 
 #: the goal of issue 12 for the whole ``make`` on 2 cores at the default level
@@ -224,6 +225,7 @@ def _cases_section(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
         lines.append("")
     if not runs:
         lines += ["None yet.", ""]
+    lines += failed_positions_lines({f"{s['case']} ({f.name})": s for f, s in runs})
     return lines
 
 

@@ -20,6 +20,7 @@ import re
 from pathlib import Path
 
 from postprocess.convergence import uncertainty_note
+from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
 
 #: the columns of the comparison, per gear-set kind (single pinion: section 3's pinion
@@ -316,7 +317,8 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
             lines.append(f"| {name} | {_inputs(r)} | {label} | {r['level']} | {vals} |")
     scenes = {f"{n} ({lab})": rs[n] for n in system for lab, rs in
               (("branch", branch), ("system", system)) if n in rs}  # fmt: skip
-    lines += ["", uncertainty_note(scenes), "", _fillet_note(branch, system)]
+    lines += ["", uncertainty_note(scenes), *failed_positions_lines(scenes), "",
+              _fillet_note(branch, system)]  # fmt: skip
     unit = "pair" if kind == "double_pinion" else "pinion"
     lines += ["", "## What the system adds", "",
               f"| case | K_gamma | load shares ({unit}: angle deg, share) | sun centre (um) |"

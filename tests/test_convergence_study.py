@@ -127,6 +127,25 @@ def test_report_and_chart(tmp_path):
     assert text.count("9.9 (factors on disk)") == 2 and "4.5 (factors" not in text
 
 
+def test_report_names_a_scalar_missing_from_a_ladder_run(tmp_path):
+    """A root stress that one ladder run did not read has no ± and no target (the table
+    keeps the keys every run has), so the verdict is silent about it: the report names it
+    and the run that lacks it."""
+    rows = [dict(r) for r in ROWS]
+    rows[1] = {**rows[1], "scalars": {k: v for k, v in rows[1]["scalars"].items()
+                                      if k != "bending_stress.sun"}}  # fmt: skip
+    table = scalar_table(rows)
+    assert "bending_stress.sun" not in table and "My_pin" in table
+    conv = {"case": "1-GB", "match": {"gearset": "case1", "scene": "one_branch"},
+            "positions_note": "One position.", "ladder_degree": 1, "runs": rows,
+            "skipped": [], "scalars": table, "recommendation": recommend(rows, table)}  # fmt: skip
+    text = write_report(conv, tmp_path).read_text()
+    assert "## Scalars missing from a ladder run (no ±, no target)" in text
+    assert "- bending_stress.sun: not in L1P1" in text
+    conv = {**conv, "runs": ROWS, "scalars": scalar_table(ROWS)}
+    assert "missing from a ladder run" not in write_report(conv, tmp_path).read_text()
+
+
 def test_summary_finds_the_study_of_its_gear_set(tmp_path):
     table = scalar_table(ROWS)
     gb, ga = load_study_case("1-GB"), load_study_case("1-GA")

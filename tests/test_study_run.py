@@ -153,6 +153,12 @@ def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     assert [p["roll"] for p in kept["positions"]] == [0.0]
     assert kept["failed_positions"][0]["position"] == 1
     assert "did not converge" in kept["failed_positions"][0]["error"]
+    # the case report says so beside its values, which are over the finished position only
+    from postprocess.case1_report import write_report
+
+    text = write_report(tmp_path).read_text()
+    assert "**Warning: 1-GA lost position(s) 1 of 2** (first error: " in text
+    assert "active set did not converge (test)" in text and "over the 1 that finished" in text
 
 
 def test_case1_report(study):
