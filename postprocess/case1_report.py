@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt
 
 from postprocess.convergence import convergence_links, uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
-from postprocess.plus_minus import plus_minus
+from postprocess.plus_minus import OFFSET_NOTE, plus_minus
 from postprocess.stress_tables import contact_section, root_section
 
 CASES = ("1-GA", "1-GB", "1-GC", "1-GB-R")
@@ -83,6 +83,8 @@ def write_report(results: Path) -> Path:
                 f"{_pct(s[q], conc)} |"
             )
     lines += [
+        "",
+        OFFSET_NOTE,
         "",
         "## Stresses",
         "",

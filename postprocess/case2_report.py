@@ -46,7 +46,7 @@ from gears.analytic.planetary import (
 from gears.spec import GearSpec
 from postprocess.convergence import convergence_links, uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
-from postprocess.plus_minus import plus_minus
+from postprocess.plus_minus import OFFSET_NOTE, plus_minus
 from postprocess.stress_tables import contact_definition, contact_section, root_section
 
 #: the four LOA moments (issue-12 names), with the mesh and the pinion each belongs to
@@ -277,9 +277,7 @@ def _centroid_section(runs: dict, singles: dict) -> list[str]:
         ss = " | ".join(f"{off[o]:+.2f}" for _, _, _, o in SIDES)
         fma = f"{s['f_ma_SPRP_um']:+.2f}{plus_minus(s, 'f_ma_SPRP_um', '.2f')}"
         lines.append(f"| {name} | {zs} | {ss} | {fma} |")
-    lines += ["", "Brackets: the range over the mesh positions. The ± of an offset in another",
-              "case than the convergence study's: the study's relative U where its offset is",
-              "clear of zero (postprocess/plus_minus.py), else n/a."]  # fmt: skip
+    lines += ["", f"Brackets: the range over the mesh positions. {OFFSET_NOTE}"]
     trends = _trends(runs, singles)
     if trends:
         lines += ["", "Against the paper (section 7):", "", *trends]

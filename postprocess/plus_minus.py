@@ -27,6 +27,12 @@ from postprocess.convergence import lookup, scalar_kind
 OFFSET_REL_MAX = 0.25
 #: printed in place of an offset's ± that the study cannot give this case
 NOT_CARRIED = " ± n/a"
+#: the rule in one sentence, for the reports that print offsets
+OFFSET_NOTE = (
+    "The ± of an offset: the study's absolute U in the study's own case; in another case the "
+    "study's relative U times the offset where the study's offset is clear of zero (U at most "
+    f"{OFFSET_REL_MAX:.0%} of it), else n/a (postprocess/plus_minus.py)."
+)
 
 
 def _number(v) -> bool:
