@@ -225,8 +225,9 @@ def _runs_code(conv: dict) -> list[str]:
 
 def _missing_scalars(conv: dict) -> list[str]:
     """The scalars some finished ladder runs hold and others do not (a stress read that
-    failed, a grid without contact): the study has no ± and no target for them, so the
-    verdict says nothing about them; named here, not left out silently."""
+    failed, a grid without contact; 2B-GA's record: the ring's near-load value, not a target,
+    absent at level 2): the study has no ± for them and the verdict does not judge them, so
+    a targeted one is named here rather than left out silently."""
     ladder = [r for r in conv["runs"] if "error" not in r and r.get("degree") ==
               conv.get("ladder_degree")]  # fmt: skip
     have = {run_label(r["level"], r["degree"]): set(r.get("scalars") or {}) for r in ladder}
@@ -235,7 +236,7 @@ def _missing_scalars(conv: dict) -> list[str]:
     missing = {k: labs for k, labs in missing.items() if labs}
     if not missing:
         return []
-    lines = ["## Scalars missing from a ladder run (no ±, no target)", ""]
+    lines = ["## Scalars missing from a ladder run (no ± and no verdict for them)", ""]
     lines += [f"- {k}: not in {', '.join(labs)}" for k, labs in missing.items()]
     return [*lines, ""]
 

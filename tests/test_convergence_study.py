@@ -140,7 +140,7 @@ def test_report_names_a_scalar_missing_from_a_ladder_run(tmp_path):
             "positions_note": "One position.", "ladder_degree": 1, "runs": rows,
             "skipped": [], "scalars": table, "recommendation": recommend(rows, table)}  # fmt: skip
     text = write_report(conv, tmp_path).read_text()
-    assert "## Scalars missing from a ladder run (no ±, no target)" in text
+    assert "## Scalars missing from a ladder run (no ± and no verdict for them)" in text
     assert "- bending_stress.sun: not in L1P1" in text
     conv = {**conv, "runs": ROWS, "scalars": scalar_table(ROWS)}
     assert "missing from a ladder run" not in write_report(conv, tmp_path).read_text()
