@@ -201,12 +201,14 @@ convergence: $(STAMP) ## discretisation error of every scalar: make convergence 
 # `uncertainty: null` and why). P2 only in `make convergence`.
 RECORD ?=
 CONV_MAIN_FLAGS = $(if $(filter 1 yes true,$(RECORD)),--record,--unless-recorded)
+# per run: 1-GB's level 1 reads eight sectors (two finer ones per loaded fillet), over an hour
+CONV_MAIN_TIMEOUT ?= 10800
 .PHONY: convergence-main
 convergence-main: $(STAMP) ## the ladders behind the ±, unless recorded (RECORD=1: solve and record them)
 	$(PY) -m studies.convergence 1-GB --levels 0 1 2 --extra --split-root-stress \
-	  --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
+	  --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
 	$(PY) -m studies.convergence 2B-GA --levels 0 1 2 --extra --split-root-stress \
-	  --out-of-core 2 --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
+	  --out-of-core 2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
 
 # The case-1 speed-against-error benchmark is the convergence study of 1-GB (with P2).
 bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/

@@ -121,8 +121,8 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
       fillet f_D): the values of every ladder run on that submodel against the flank size
       (Richardson over three levels, the two-grid GCI over two);
     * submodel: the submodel's level (the whole sector refined), at the fixed driver of the
-      case's level: f_D and the sectors read beside it, one coarser and one finer where the
-      run holds both (Richardson over the three against the read fillet size, the stress
+      case's level: f_D and the two sectors read with it, the two finer ones where they
+      exist (Richardson over the three against the read fillet size, the stress
       concentration's own length; a P2 submodel, order capped at 2).
 
     Separable errors: the extrapolated value X = D_ext S_ext / v_D (D_ext, S_ext the two

@@ -86,9 +86,9 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
     """The record (its convergence.json) of a convergence study of ``study``'s match key
     run with ``ladder`` (levels, extra runs, positions, split root stress; what
     :mod:`studies.convergence` writes as ``ladder``) and every run of it finished, or None.
-    A record with a failed run is not one: ``--record`` writes what finished (1-GB's level 1
-    timed out on 2026-11-28 and was recorded without it), and ``--unless-recorded`` would
-    then never solve the missing run; it is named on stdout."""
+    A record with a failed run is not one (``--record`` refuses such a study since
+    2026-11-28; before, it wrote what finished): ``--unless-recorded`` would then never
+    solve the missing run; it is named on stdout."""
     if records is None:
         return None
     for path, conv in _studies(records, study.name, match_key(study)):

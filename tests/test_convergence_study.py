@@ -271,6 +271,29 @@ def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
     assert recorded(gb, ladder, tmp_path / "records") == path
 
 
+def test_record_refuses_a_study_with_a_failed_run(tmp_path, monkeypatch, capsys):
+    """--record of a study whose level-1 run timed out records nothing and says which run
+    failed (exit 2); the study itself stays in the results; once the run finishes, the study
+    is recorded."""
+    from studies import convergence
+    from studies.provenance import code_hash
+
+    case = load_study_case("1-GB")
+    folder, records = tmp_path / case.name, tmp_path / "records"
+    _stored_runs(folder, case, code_hash())
+    (folder / "runs" / "L1P1.json").unlink()
+    outcome = {"level": 1, "degree": 1, "error": "timeout after 3600 s"}
+    monkeypatch.setattr(convergence, "run_child", lambda *a: dict(outcome))
+    argv = ["1-GB", "--levels", "0", "1", "2", "--extra", "--out", str(tmp_path), "--record",
+            "--records", str(records)]  # fmt: skip
+    assert convergence.main(argv) == 2
+    assert "--record: run(s) L1P1 failed" in capsys.readouterr().err
+    assert (folder / STUDY_FILE).is_file() and not (records / case.name).exists()
+    outcome = dict(ROWS[1])
+    assert convergence.main(argv) == 0  # the failed run is solved again, not reused
+    assert not failed_runs(read_json(records / case.name / STUDY_FILE))
+
+
 def test_a_study_without_the_run_of_the_level_does_not_stand_before_one_with_it(tmp_path):
     """A study of this machine by today's code whose level-1 run failed (its labels lack
     L1P1) gives no ± at level 1; a record that has the run is taken instead, not a silent
@@ -489,10 +512,11 @@ def _separable(h: float, f: float) -> float:
 def _split_rows(extras: bool = True, case_level: int = 1) -> list[dict]:
     """Ladder runs at levels 0-2, each on its own sector (meshing.submodel.submodel_level),
     with the extra submodel readings of studies.convergence.submodel_levels for a case at
-    ``case_level``: its run on the sectors of the levels beside it, the others on its own."""
+    ``case_level``: its run on two other sectors (level 1: the two finer ones; level 2: one
+    finer, one coarser), the others on the case's."""
     from meshing.submodel import submodel_level
 
-    near = {1: (0, 2), 2: (1, 3)}[case_level]
+    near = {1: (2, 3), 2: (1, 3)}[case_level]
     rows = []
     for level in (0, 1, 2):
         h, f = LEVELS[level].fine, submodel_level(level).fillet
@@ -517,17 +541,23 @@ def test_root_stress_split_recovers_the_limit_of_separable_errors():
     assert sp["driver"]["status"] == sp["submodel"]["status"] == "monotone"
     assert sp["driver"]["order"] == pytest.approx(2.0, rel=1e-6)
     assert sp["submodel"]["order"] == pytest.approx(2.0, rel=1e-6)
-    # the submodel ladder: the case's sector (0.15 mm) between a coarser and a finer one
-    assert sp["submodel"]["values"] and sp["fillet_mm"] == 0.15
+    # the submodel ladder: the case's sector (0.15 mm) and the two finer ones
+    assert sp["fillet_mm"] == 0.15 and sp["submodel"]["at"] == [0.15, 0.1, 0.08]
     # X = D_ext S_ext / v_D is the exact limit of a separable error (order 2 recovered)
     assert e["extrapolated"] == pytest.approx(A_ROOT, rel=1e-9)
     for r in rows:
         assert e["rel_error"][r["label"]] == pytest.approx(r["scalars"]["bending_stress.ring"]
                                                            / A_ROOT - 1.0, abs=1e-9)  # fmt: skip
-    # every run reads a sector of the submodel ladder (0.2 / 0.15 / 0.1 mm): its own U there
-    for i, r in enumerate(rows):
-        want = sp["driver"]["uncertainty"][i] + sp["submodel"]["uncertainty"][i]
-        assert e["uncertainty"][r["label"]] == pytest.approx(want, rel=1e-12)
+    # levels 1 and 2 read their own sector on the submodel ladder: its U there
+    for i in (1, 2):
+        want = sp["driver"]["uncertainty"][i] + sp["submodel"]["uncertainty"][i - 1]
+        assert e["uncertainty"][rows[i]["label"]] == pytest.approx(want, rel=1e-12)
+    # level 0's 0.2 mm sector is coarser than the ladder: the step to the case's sector on
+    # its own driver, plus the ladder's U there
+    v0 = rows[0]["scalars"]["bending_stress.ring"]
+    v0_f = rows[0]["fillet_scalars"]["0.15"]["bending_stress.ring"]
+    want = sp["driver"]["uncertainty"][0] + abs(v0 - v0_f) / v0 + sp["submodel"]["uncertainty"][0]
+    assert e["uncertainty"]["L0P1"] == pytest.approx(want, rel=1e-12)
 
 
 def test_root_stress_split_of_a_run_coarser_than_the_submodel_ladder():
@@ -568,17 +598,21 @@ def test_the_ladder_runs_read_the_two_submodel_ladders():
     study = load_study_case("1-GB")  # level 1: its sector at level 2's sizes, 0.15 mm
     assert study.model.level == 1
     assert submodel_level(1) == with_fillet(2, 0.15)
-    assert submodel_levels(study, 1, 1) == (0, 2)  # the submodel ladder, driver fixed
+    assert submodel_levels(study, 1, 1) == (2, 3)  # the submodel ladder, driver fixed
     assert submodel_levels(study, 0, 1) == submodel_levels(study, 2, 1) == (1,)  # driver
     # the whole sector refines along the submodel ladder, its fillet the finest part
-    subs = [submodel_level(k) for k in (0, 1, 2)]
-    assert [s.fillet for s in subs] == [0.2, 0.15, 0.1]
+    subs = [submodel_level(k) for k in (1, 2, 3)]
+    assert [s.fillet for s in subs] == [0.15, 0.1, 0.08]
     assert subs[0].fine > subs[1].fine > subs[2].fine and subs[0].tooth > subs[2].tooth
-    # the finest level reads its own sizes; a case there reads two coarser sectors
+    # a level-0 case reads the two finer sectors too; a level-2 case has one finer sector
+    # (levels 3 and 4 share theirs) and reads one coarser
+    at = {k: replace(study, model=replace(study.model, level=k)) for k in range(len(LEVELS))}
+    assert submodel_levels(at[0], 0, 1) == (1, 2)
+    assert submodel_levels(at[2], 2, 1) == (1, 3)
+    # the finest level reads its own sizes; a case there reads the two coarser sectors
     top = len(LEVELS) - 1
     assert submodel_level(top) == submodel_level(top - 1) == with_fillet(top, 0.08)
-    at_top = replace(study, model=replace(study.model, level=top))
-    assert submodel_levels(at_top, top, 1) == (top - 2,)
+    assert submodel_levels(at[top], top, 1) == (top - 3, top - 2)
     assert submodel_levels(study, 0, 2) == ()  # off the ladder
     glob = global_root_stress(study)
     assert submodel_levels(glob, 1, 1) == ()
