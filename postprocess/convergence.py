@@ -31,13 +31,11 @@ Where only two grids are run (a third that does not fit in memory or time, ``--l
 A run off the ladder (another degree, e.g. P2 at the coarsest level) is compared with the
 extrapolated value in the same way (:func:`off_ladder`).
 
-Summaries (:func:`summary_scalars`): every reported scalar of a ``summary.json`` by a dotted
-key (``My_pin``, ``bending_stress.sun``, ``contact_stress_cycle.sun_pinion.p_max_MPa``): the
-top-level scalars of the gear-set kind and every float under a top-level entry whose name
-holds ``stress`` (not the ISO closed forms, not where a maximum sits); whatever keys the
-summary has, so new stress entries are picked up.
-:func:`uncertainty_for` turns a convergence study into a summary's ``uncertainty`` entry,
-:func:`plus_minus` prints it beside a value.
+:func:`uncertainty_for` turns a convergence study into a summary's ``uncertainty`` entry
+(:mod:`postprocess.plus_minus` prints it beside a value). The scalars a run records are read
+by :mod:`postprocess.run_scalars`. This module and :mod:`postprocess.convergence_study` are
+reductions of stored runs, outside the source hash: a study is reduced again by today's code
+whenever it is read (:func:`postprocess.convergence_study.reduce_study`).
 """
 
 from __future__ import annotations
@@ -48,7 +46,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from postprocess.paper_moments import MEAN_KEYS
+from postprocess.run_scalars import run_label
 
 SAFETY = 1.25  # Roache's factor of safety for a three-grid study with the observed order
 P_MIN = 0.5  # below: stagnant (see the module docstring)
@@ -60,10 +58,6 @@ STRESS_RTOL = 0.05  # and stresses within 5 %
 # A relative error is given only where the value is above this fraction of the largest
 # value of its kind (Mz_pin of a pinion free to spin is round-off, not a moment to quote).
 NEAR_ZERO = 1e-3
-# Entries under a stress group that are not discretisation results: where a maximum sits,
-# counts, ISO factors, the torque ISO is evaluated at.
-_SKIP_PARTS = ("locations", "iso_factors", "iso_driver_torque_Nm")
-_SKIP_SUFFIXES = ("_at",)
 
 
 @dataclass(frozen=True)
@@ -275,82 +269,7 @@ def off_ladder(
     }
 
 
-# ------------------------------------------------------------------ scalars of a summary
-def scalar_kind(key: str) -> str:
-    """``moment`` (N m), ``stress`` (MPa), ``offset`` (mm, um) or ``other`` (load factors,
-    line loads, ratios) from the dotted key."""
-    group, leaf = key.split(".", 1)[0], key.rsplit(".", 1)[-1]
-    if "." in key and "stress" in group:
-        if leaf.endswith("_MPa"):
-            return "stress"
-        other = leaf.startswith("K_") or "_to_" in leaf or leaf.endswith(("_mm", "_Nm", "_N"))
-        return "other" if other else "stress"
-    if leaf.startswith("M"):
-        return "moment"
-    if leaf.startswith("Z") or leaf.endswith(("_mm", "_um")):
-        return "offset"
-    return "other"
-
-
-def unit(key: str) -> str:
-    """The unit of a scalar by its key."""
-    leaf = key.rsplit(".", 1)[-1]
-    kind = scalar_kind(key)
-    if kind == "moment":
-        return "N m"
-    if kind == "stress":
-        return "MPa"
-    if leaf.endswith("_um"):
-        return "um"
-    if kind == "offset":
-        return "mm"
-    if leaf.endswith("_N_per_mm"):
-        return "N/mm"
-    return "-"
-
-
-def _leaves(tree, prefix: str, out: dict[str, float]) -> None:
-    if isinstance(tree, Mapping):
-        for k, v in tree.items():
-            if k in _SKIP_PARTS or k.endswith(_SKIP_SUFFIXES):
-                continue
-            _leaves(v, f"{prefix}.{k}", out)
-    elif isinstance(tree, float) and math.isfinite(tree):  # ints are counts, bools flags
-        out[prefix] = tree
-
-
-def summary_scalars(summary: Mapping, kind: str | None = None) -> dict[str, float]:
-    """The reported scalars of a summary (or of a position record) by dotted key: the
-    top-level scalars of the gear-set ``kind`` (:data:`postprocess.paper_moments.MEAN_KEYS`;
-    all kinds' when None) and every float under a top-level entry named ``*stress*``, except
-    where a maximum sits (``*_at``) and the ISO 6336 closed forms (``*iso6336*``)."""
-    keys = MEAN_KEYS[kind] if kind else {k for ks in MEAN_KEYS.values() for k in ks}
-    out: dict[str, float] = {}
-    for k in keys:
-        v = summary.get(k)
-        if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
-            out[k] = float(v)
-    for name, tree in summary.items():
-        skip = name.endswith(_SKIP_SUFFIXES) or "iso6336" in name  # locations; closed forms
-        if "stress" in name and isinstance(tree, Mapping) and not skip:
-            _leaves(tree, name, out)
-    return out
-
-
-def lookup(tree: Mapping, key: str):
-    """The value at a dotted key of a summary (None where a part is missing)."""
-    for part in key.split("."):
-        if not isinstance(tree, Mapping) or part not in tree:
-            return None
-        tree = tree[part]
-    return tree
-
-
 # ------------------------------------------------------------------ summaries and reports
-def run_label(level: int, degree: int) -> str:
-    return f"L{level}P{degree}"
-
-
 def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dict:
     """The ``uncertainty`` entries of a summary solved at ``level``/``degree`` from a
     convergence ``study`` (a convergence.json): ``uncertainty`` {key: relative} for every
@@ -393,20 +312,6 @@ def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dic
     return {"uncertainty": rel, "uncertainty_abs": absolute, "uncertainty_source": src}
 
 
-def plus_minus(summary: Mapping, key: str, fmt: str = ".1f", value: float | None = None) -> str:
-    """`` ± x`` (in the value's unit) for ``key`` of a summary with an ``uncertainty``;
-    '' without one. Offsets (mm) take the absolute uncertainty of the study (an offset near
-    zero has no useful relative one); everything else the relative one times the value."""
-    rel = (summary.get("uncertainty") or {}).get(key)
-    absolute = (summary.get("uncertainty_abs") or {}).get(key)
-    value = lookup(summary, key) if value is None else value
-    if scalar_kind(key) == "offset" or rel is None:
-        u = absolute if scalar_kind(key) == "offset" else None
-    else:
-        u = rel * abs(value) if isinstance(value, (int, float)) else None
-    return "" if u is None else f" ± {format(u, fmt)}"
-
-
 def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
     """One line for a report: where its ± come from (the convergence study of each case),
     and which cases have none."""
@@ -431,8 +336,8 @@ def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
         "± : discretisation uncertainty of the value at its mesh level (GCI with factor of "
         "safety 1.25 from a Richardson extrapolation over mesh levels 0-2, or the spread of "
         "the levels where they do not converge monotonically; where only levels 0-1 fit, "
-        "Roache's two-grid GCI with factor of safety 3 and the formal order; offsets in mm "
-        "absolute); "
+        "Roache's two-grid GCI with factor of safety 3 and the formal order; an offset's "
+        "± as written under its table); "
     )
     text += "; ".join(parts) if parts else "no case has one"
     if without and parts:

@@ -14,8 +14,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter, NullFormatter, PercentFormatter
 
-from postprocess.convergence import SAFETY_TWO_GRID, run_label
+from postprocess.convergence import SAFETY_TWO_GRID
 from postprocess.convergence_study import P_CAP
+from postprocess.run_scalars import run_label
 
 CHART = "speed_error.png"
 

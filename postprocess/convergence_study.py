@@ -33,11 +33,9 @@ from postprocess.convergence import (
     STRESS_RTOL,
     off_ladder,
     richardson,
-    run_label,
-    scalar_kind,
     two_grid,
-    unit,
 )
+from postprocess.run_scalars import run_label, scalar_kind, unit
 
 P_CAP = 2.0
 # Edge values, not targets: contact-grid edge points, cell peaks, the root stress within
@@ -393,3 +391,16 @@ def _note(best: dict | None, verdicts: list[dict]) -> str:
         "choice and the ± printed beside every value carries the error of the level used "
         "(worst errors: " + "; ".join(parts) + ")"
     )
+
+
+def reduce_study(conv: dict) -> dict:
+    """The convergence study ``conv`` (a convergence.json) with its reductions, ``scalars``
+    (:func:`scalar_table`) and ``recommendation`` (:func:`recommend`), made by today's code
+    from its stored ``runs``. The reductions are outside the
+    source hash (:mod:`postprocess.run_scalars`), so a fix to them takes effect on every
+    stored study, recorded or not, without solving a run again. A study without
+    ``case_level`` (written before 2026-11-28) is returned as stored."""
+    if "case_level" not in conv or not isinstance(conv.get("runs"), list):
+        return conv
+    table = scalar_table(conv["runs"], conv.get("ladder_degree", 1), conv["case_level"])
+    return {**conv, "scalars": table, "recommendation": recommend(conv["runs"], table)}

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from postprocess.convergence import lookup, scalar_kind
+from postprocess.run_scalars import lookup, scalar_kind
 
 #: an offset whose relative uncertainty in the study is above this is within four U of zero
 #: there: its error is the study's absolute floor, which does not scale to another case's

@@ -37,6 +37,8 @@ import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
 
 # isort: split
 import json
+import resource
+import sys
 import time
 from dataclasses import dataclass, replace
 
@@ -443,6 +445,13 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
             **sub.solve_timings, "read_s": time.perf_counter() - t_read,
         }  # fmt: skip
         recs[key] = rec
+        if p.comm.rank == 0:  # progress of a long ladder run (the child's log)
+            m = rec["submodel"]
+            print(f"submodel {key}, fillet {lv.fillet:g} mm: {m['dofs']} DOFs, set-up "
+                  f"{m['setup_s']:.0f} s{'' if m['set_up_here'] else ' (kept)'}, solve "
+                  f"{m['solve_s']:.0f} s, {m['iterations']} iterations, peak "
+                  f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2:.1f} GB",
+                  file=sys.stderr, flush=True)  # fmt: skip
         del sub, u  # a submodel the store does not keep is freed before the next is built
     method = (f"P{degree} submodel of the loaded teeth (read fillets {lv.fillet:g} mm), driven "
               "by the global displacement; cell stress at the fillet vertices, averaged over "

@@ -28,7 +28,7 @@ from pathlib import Path
 
 from cases.study_case import LINEAR_SOLVERS, Numerics, load_study_case
 from meshing import sizing
-from postprocess.convergence import scalar_kind
+from postprocess.run_scalars import scalar_kind
 from solvers.elastic_body import DEFAULT_TOLERANCE
 from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, write_json

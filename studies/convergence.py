@@ -58,9 +58,9 @@ from pathlib import Path
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
 from meshing import sizing
 from meshing.submodel import submodel_level
-from postprocess.convergence import run_label
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
-from postprocess.convergence_study import recommend, scalar_table
+from postprocess.convergence_study import reduce_study
+from postprocess.run_scalars import run_label
 from studies.cli import InputError, guarded
 from studies.files import ResultFileError, read_json, write_json
 from studies.position_runs import mem_available_gb, print_row, run_child, solve_run
@@ -217,7 +217,8 @@ def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
     ooc = (level, degree) in args.ooc_runs
     if ooc:
         child += ["--out-of-core-run"]
-    row = run_child("studies.convergence", child, level, degree, args.timeout)
+    log = folder / "runs" / f"{label}.log"  # the child's progress, a line per submodel
+    row = run_child("studies.convergence", child, level, degree, args.timeout, log)
     row["label"], row["reused"] = label, False
     row["reuse_key"] = _reuse_key(study, level, degree, args.positions, args.split_root_stress,
                                   ooc)  # fmt: skip
@@ -263,6 +264,26 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
     return dest / STUDY_FILE
 
 
+def reduce_records(records: Path = RECORDS) -> list[Path]:
+    """Reduce every record under ``records`` again by today's code (after a change to the
+    reductions, :func:`postprocess.convergence_study.reduce_study`): its convergence.json's
+    ``scalars`` and ``recommendation``, its report and chart; its runs and their source
+    hash stay. A record written before the study kept ``case_level`` takes its case's level
+    from the case file. Returns the records' convergence.json files."""
+    done = []
+    for path in sorted(Path(records).glob(f"*/{STUDY_FILE}")):
+        conv = read_json(path)
+        if "case_level" not in conv:
+            conv["case_level"] = load_study_case(conv["case"]).model.level
+        conv = reduce_study(conv)
+        write_json(path, conv)
+        if not speed_error_chart(conv, path.parent / CHART):
+            (path.parent / CHART).unlink(missing_ok=True)
+        write_report(conv, path.parent)
+        done.append(path)
+    return done
+
+
 def study(args) -> Path | None:
     """Run (or reuse) every run, then write convergence.json, the chart and the report
     (and the record, ``--record``); nothing with ``--unless-recorded`` and a record."""
@@ -305,10 +326,10 @@ def study(args) -> Path | None:
         row = _one_run(args, case, level, degree, folder)
         rows.append(row)
         _say(row)
-    table = scalar_table(rows, LADDER_DEGREE, case_level=case.model.level)
     conv = {
         "case": case.name,
         "description": case.description,
+        "case_level": case.model.level,
         "match": match_key(case),
         "code_hash": code_hash(),
         "runs_code_hash": sorted({r["reuse_key"]["code_hash"] for r in rows if "reuse_key" in r}),
@@ -322,10 +343,9 @@ def study(args) -> Path | None:
         "labels": [r["label"] for r in rows if "error" not in r],
         "runs": rows,
         "skipped": skipped,
-        "scalars": table,
-        "recommendation": recommend(rows, table),
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
     }
+    conv = reduce_study(conv)
     write_json(folder / STUDY_FILE, conv)
     if not speed_error_chart(conv, folder / CHART):
         (folder / CHART).unlink(missing_ok=True)
@@ -401,6 +421,12 @@ def main(argv=None) -> int:
         action="store_true",
         help="run nothing when a record of this gear set, scene, numerics and ladder exists",
     )
+    ap.add_argument(
+        "--reduce-records",
+        action="store_true",
+        help="solve nothing: reduce every recorded study again by today's code (after a change "
+        "to the reductions; the records' runs stay)",
+    )
     ap.add_argument("--records", type=Path, default=RECORDS, help=argparse.SUPPRESS)
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
     ap.add_argument("--out-of-core-run", action="store_true", help=argparse.SUPPRESS)
@@ -422,6 +448,9 @@ def main(argv=None) -> int:
             ),
             traceback=True,
         )
+    if args.reduce_records:
+        done = lambda: print("\n".join(f"reduced again: {p}" for p in reduce_records(args.records)))  # noqa: E731
+        return guarded(done)
     if not args.case:
         ap.error("give the case: python -m studies.convergence 1-GB")
     return guarded(lambda: study(args), traceback=args.traceback)

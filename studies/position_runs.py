@@ -3,7 +3,7 @@ the wall time and peak memory measured are those of that run alone.
 
 :func:`solve_run` solves the positions in this process and returns the run's row: the
 reported scalars of the summary these positions make (:func:`postprocess.summary.summarise`
-reduced by :func:`postprocess.convergence.summary_scalars`: means over the positions, cycle
+reduced by :func:`postprocess.run_scalars.summary_scalars`: means over the positions, cycle
 maxima of the stresses, exactly what ``summary.json`` would hold), DOFs, contact grid points,
 the wall-time split summed over the positions (scene and meshes / bodies, of which
 factorization / gap operator and free solve / compliance / active set / final solve / total),
@@ -29,7 +29,7 @@ from mpi4py import MPI
 from cases.study_case import CaseError, Numerics, load_study_case
 from meshing import sizing
 from meshing.submodel import submodel_level
-from postprocess.convergence import summary_scalars
+from postprocess.run_scalars import summary_scalars
 from postprocess.summary import cycle_bending, summarise
 from solvers.body_store import BodyStore
 from solvers.elastic_body import OOC_DIR_ENV, ooc_folder
@@ -115,6 +115,13 @@ def solve_run(
     # one position has nothing to reuse: without reuse each root-stress submodel is freed
     # after its solve instead of all being held beside the global factors (level 2: 22.5 GB)
     store = BodyStore(reuse=positions > 1)
+    t0 = time.perf_counter()
+
+    def progress(stage: str) -> None:  # the child's log (runs/<run>.log): where time goes
+        if comm.rank == 0:
+            t, gb = time.perf_counter() - t0, peak_rss_mb() / 1024
+            print(f"{t:8.1f} s  {stage} (peak {gb:.1f} GB)", file=sys.stderr, flush=True)
+
     solved = [
         solve_position(
             study,
@@ -124,6 +131,7 @@ def solve_run(
             degree=degree,
             store=store,
             submodel_levels=tuple(submodel_levels),
+            progress=progress,
         )
         for roll in roll_angles(study, positions)
     ]
@@ -157,24 +165,32 @@ def solve_run(
     }
 
 
-def run_child(module: str, args: list[str], level: int, degree: int, timeout: float) -> dict:
+def run_child(
+    module: str, args: list[str], level: int, degree: int, timeout: float, log: Path | None = None
+) -> dict:
     """``python -m <module> <args>`` in a child process; its row (the last ``@@row`` line of
     its stdout) with ``process_wall_s`` (including interpreter and library start-up), or a
     row with ``error`` (exit code, signal, the tail of stderr). The child's out-of-core
     factor files (``numerics.out_of_core``) go to a folder of its own under
     ``$PLANETARY_OOC_DIR`` (or the temporary folder), removed when it ends, however it ends:
     a child killed out of memory or by the timeout leaves no factor files behind (tens of GB
-    at level 2)."""
+    at level 2). ``log``: the child's stderr goes to this file as it runs (its progress, e.g.
+    a line per submodel), not to memory."""
     cmd = [sys.executable, "-m", module, *args]
     ooc = ooc_folder("ooc-run-")
     env = {**os.environ, OOC_DIR_ENV: ooc}
     t0 = time.perf_counter()
+    err = subprocess.PIPE if log is None else open(log, "w")
     try:
-        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+        res = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=err, text=True, timeout=timeout,
+                             env=env)  # fmt: skip
     except subprocess.TimeoutExpired:
         return {"level": level, "degree": degree, "error": f"timeout after {timeout:.0f} s"}
     finally:
         shutil.rmtree(ooc, ignore_errors=True)
+        if log is not None:
+            err.close()
+    stderr = res.stderr if log is None else Path(log).read_text(errors="replace")
     wall = time.perf_counter() - t0
     rows = [ln[len(ROW_MARK) :] for ln in res.stdout.splitlines() if ln.startswith(ROW_MARK)]
     if res.returncode != 0 or not rows:
@@ -186,7 +202,7 @@ def run_child(module: str, args: list[str], level: int, degree: int, timeout: fl
             "level": level,
             "degree": degree,
             "error": err,
-            "stderr_tail": res.stderr.strip().splitlines()[-5:],
+            "stderr_tail": stderr.strip().splitlines()[-5:],
             "process_wall_s": wall,
         }
     row = json.loads(rows[-1])

@@ -12,7 +12,12 @@ import closure (every ``import`` in the module, at any depth of its body, within
 packages) of :data:`COMPUTE_ROOTS`; the drivers that choose what is solved
 (:data:`DRIVERS`, their own source); and every case and gear-set file. Reports, pictures,
 benchmarks and command-line shells are outside it, so a change to a report neither discards
-finished positions nor marks a recorded convergence study as solved by other code.
+finished positions nor marks a recorded convergence study as solved by other code. So are the
+reductions of a convergence study's runs (:mod:`postprocess.convergence`,
+:mod:`postprocess.convergence_study`): they are applied again to the stored runs whenever a
+study is read (:func:`postprocess.convergence_study.reduce_study`), so a fix to them takes
+effect on every record without solving its runs again (the scalars a run records,
+:mod:`postprocess.run_scalars`, are covered).
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ VERSIONED = ("dolfinx-solver-real", "fenics-basix", "fenics-ffcx", "fenics-ufl",
 
 # the modules through which a position's, a summary's and a convergence run's numbers pass
 COMPUTE_ROOTS = ("studies.position", "studies.position_runs", "postprocess.summary",
-                 "postprocess.convergence", "postprocess.convergence_study")  # fmt: skip
+                 "postprocess.run_scalars")  # fmt: skip
 # the drivers that choose what is solved (their own source; their reports are outside)
 DRIVERS = ("studies.run", "studies.convergence")
 

@@ -19,6 +19,10 @@ keeps the commit it was solved on and its runs keep their source hash; a summary
 its ± from a study (recorded or not) solved by other code says so
 (``uncertainty_source.code_changed``, and the reports), since a code change may change the
 discretisation error too (the inputs cannot have changed: they are in the match key).
+
+A study is reduced again by today's code when it is read
+(:func:`postprocess.convergence_study.reduce_study`): its ± follow today's reductions of its
+stored runs, and only the code that solved the runs decides ``code_changed``.
 """
 
 from __future__ import annotations
@@ -28,7 +32,9 @@ import json
 from pathlib import Path
 
 from cases.study_case import StudyCase, study_inputs
-from postprocess.convergence import run_label, uncertainty_for
+from postprocess.convergence import uncertainty_for
+from postprocess.convergence_study import reduce_study
+from postprocess.run_scalars import run_label
 from studies.files import ResultFileError, read_json
 from studies.provenance import code_hash
 
@@ -72,7 +78,7 @@ def _studies(folder: Path, name: str, key: dict):
         except ResultFileError:
             continue
         if isinstance(conv, dict) and conv.get("match") == key and conv.get("scalars"):
-            yield path, conv
+            yield path, reduce_study(conv)
 
 
 def failed_runs(conv: dict) -> list[str]:

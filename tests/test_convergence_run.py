@@ -12,8 +12,8 @@ import pytest
 from cases.study_case import load_study_case
 from meshing.submodel import submodel_level
 from postprocess.case1_report import write_report
-from postprocess.convergence import summary_scalars
 from postprocess.convergence_study import scalar_table
+from postprocess.run_scalars import summary_scalars
 from studies import run as study_run
 from studies.files import write_json
 from studies.position_runs import solve_run

@@ -336,6 +336,52 @@ def test_the_recorded_ladders_match_their_cases(case):
     assert not failed_runs(conv), f"{path} misses failed runs: make convergence-main RECORD=1"
 
 
+@pytest.mark.parametrize("case", ["1-GB", "2B-GA"])
+def test_a_record_holds_todays_reductions_of_its_runs(case, tmp_path):
+    """The reductions (postprocess.convergence, postprocess.convergence_study) are outside
+    the source hash and applied again whenever a study is read; the record's stored scalars,
+    recommendation and report must be what they give today, or the committed files say other
+    numbers than the summaries print. Fails after a change to the reductions until
+    ``python -m studies.convergence --reduce-records`` rewrites the records."""
+    import json
+
+    from postprocess.convergence_study import reduce_study
+
+    path = RECORDS / case / STUDY_FILE
+    conv = read_json(path)
+    assert "case_level" in conv, f"{path}: python -m studies.convergence --reduce-records"
+    again = reduce_study(conv)
+    for part in ("scalars", "recommendation"):
+        assert json.dumps(again[part], sort_keys=True) == json.dumps(conv[part], sort_keys=True), (
+            f"{path}: its {part} are not today's; python -m studies.convergence --reduce-records"
+        )
+    speed_error_chart(again, tmp_path / "speed_error.png")
+    write_report(again, tmp_path)
+    assert (tmp_path / "report.md").read_text() == (path.parent / "report.md").read_text()
+
+
+def test_reduce_records_rewrites_stale_reductions(tmp_path):
+    """A record whose stored reductions are stale (a scalar's values edited after the
+    reduction) is reduced again from its runs, and its report with it."""
+    from postprocess.convergence_study import reduce_study
+    from studies.convergence import reduce_records
+
+    rows = [{**r, "label": f"L{r['level']}P{r['degree']}"} for r in ROWS[:3]]
+    match = {"gearset": "case1", "scene": "one_branch"}
+    conv = {"case": "1-GB", "description": "x", "match": match, "code_hash": "x",
+            "runs_code_hash": ["x"], "positions": 1, "positions_note": "One position.",
+            "ladder_degree": 1, "ladder": {}, "labels": [r["label"] for r in rows],
+            "runs": rows, "skipped": [], "scalars": {"stale": {}},
+            "recommendation": {}}  # fmt: skip
+    (tmp_path / "1-GB").mkdir()
+    write_json(tmp_path / "1-GB" / STUDY_FILE, conv)
+    assert reduce_records(tmp_path) == [tmp_path / "1-GB" / STUDY_FILE]
+    got = read_json(tmp_path / "1-GB" / STUDY_FILE)
+    assert got["case_level"] == load_study_case("1-GB").model.level
+    assert "stale" not in got["scalars"] and got["scalars"] == reduce_study(got)["scalars"]
+    assert got["recommendation"]["runs"] and (tmp_path / "1-GB" / "report.md").is_file()
+
+
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
@@ -419,6 +465,18 @@ def test_failed_child_is_a_row_with_its_error():
     assert any("no-such-case" in line for line in row["stderr_tail"])
 
 
+def test_a_child_with_a_log_writes_its_stderr_there(tmp_path):
+    """A ladder run's child writes its progress (a line per submodel) to runs/<run>.log as
+    it runs; a failed one's row still holds the tail."""
+    from studies.position_runs import run_child
+
+    log = tmp_path / "L0P1.log"
+    row = run_child("studies.convergence", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120,
+                    log)  # fmt: skip
+    assert "no-such-case" in log.read_text()
+    assert any("no-such-case" in line for line in row["stderr_tail"])
+
+
 def test_only_an_in_core_extra_run_waits_for_free_memory(tmp_path, monkeypatch):
     """An extra run (P2) is skipped when less memory is free than ``--min-free-gb``, unless it
     is solved out of core (a few GB whatever the level: 2B-GA's level-0 P2 peaked at 4.5)."""
@@ -428,7 +486,7 @@ def test_only_an_in_core_extra_run_waits_for_free_memory(tmp_path, monkeypatch):
     case = load_study_case("1-GB")
     calls = []
 
-    def child(module, args, level, degree, timeout):
+    def child(module, args, level, degree, timeout, log=None):
         calls.append(args)
         return dict(ROWS[3])
 
