@@ -17,7 +17,10 @@ conservative one). When the three grids do not converge monotonically there is n
 extrapolation, and the uncertainty of every level falls back to the spread of the levels,
 (max f - min f) / |f_k|, with the status saying why (:func:`richardson`):
 
-* ``mesh-independent``: the three values agree to round-off (an input, not an FE result);
+* ``mesh-independent``: the three values agree to round-off (an input, not an FE result), or
+  within the solver's noise (``noise``: a change below an iterative solve's tolerance has no
+  sign, so neither an order nor an oscillation can be read from it; a finer pair within it
+  counts as ``stagnant``, a coarser pair as ``divergent``);
 * ``oscillatory``: e21 and e32 differ in sign;
 * ``divergent``: the changes grow as the grid is refined (p <= 0);
 * ``stagnant``: they barely shrink (0 < p < P_MIN): r^p - 1 < 0.2 for these ratios, so an
@@ -122,11 +125,16 @@ def richardson(
     safety: float = SAFETY,
     p_cap: float | None = None,
     zero_scale: float = 0.0,
+    noise: float = 0.0,
 ) -> Richardson:
     """Richardson extrapolation and GCI of three values ``f`` on grids of size ``h`` (any
     order, all different; see the module docstring for the equations and the statuses).
     ``p_cap``: the GCI uses min(p, p_cap); ``zero_scale``: relative numbers are None where
-    the value they are relative to is below it (a quantity that is zero by physics)."""
+    the value they are relative to is below it (a quantity that is zero by physics);
+    ``noise``: the solver's noise relative to the largest value (an iterative solve's
+    tolerance): a change between two grids within it has no sign, so an order cannot be
+    observed from it (without it, [110, 100 + 1e-6, 100] was monotone with U ~ 0 and
+    [110, 100 - 1e-6, 100] oscillatory with U 10 %; both now take the spread)."""
     if len(h) != 3 or len(f) != 3:
         raise ValueError(f"richardson needs three grids, got {len(h)} sizes and {len(f)} values")
     if not all(math.isfinite(v) for v in (*h, *f)) or min(h) <= 0.0:
@@ -157,6 +165,15 @@ def richardson(
 
     if spread <= SAME_RTOL * big:
         return fallback("mesh-independent", "the same value on every grid", None)
+    floor = noise * big
+    if spread <= floor:
+        return fallback("mesh-independent", "every grid within the solver's noise", None)
+    if abs(e21) <= floor:
+        return fallback("stagnant", "the two finer grids agree within the solver's noise: no "
+                        "order", None)  # fmt: skip
+    if abs(e32) <= floor:
+        return fallback("divergent", "the coarser pair agrees within the solver's noise but the "
+                        "finer does not", None)  # fmt: skip
     if e21 * e32 < 0.0:
         return fallback("oscillatory", "changes alternate in sign: no extrapolation", None)
     if e21 == 0.0:  # the two finer grids agree exactly, the coarse one does not

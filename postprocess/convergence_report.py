@@ -117,7 +117,10 @@ def _recommendation(conv: dict) -> list[str]:
     lines = ["## Which level", ""]
     lines.append(
         f"Targets (issue 13): moments within {rec['targets']['moment']:.0%}, stresses "
-        f"within {rec['targets']['stress']:.0%} of the extrapolated value."
+        f"within {rec['targets']['stress']:.0%}, judged on each run's U, the ± the reports "
+        "print (the GCI with the capped order, or the bound without an extrapolation; the "
+        "SP-RP differential relative to the larger of its two moments). A targeted scalar a "
+        "run lacks, or that has no U, fails it."
     )
     lines.append("")
     lines.append("| run | time (s) | memory (GB) | worst moment | worst stress | meets |")
@@ -128,7 +131,7 @@ def _recommendation(conv: dict) -> list[str]:
             d = v["worst"].get(kind)
             if d is None:
                 return "-"
-            how = "" if d["how"] == "error" else f" ({d['how']})"
+            how = "" if d["how"] == "U (GCI)" else f" ({d['how']})"
             return f"{d['key']} {d['error']:.2%}{how}"
 
         lines.append(
@@ -227,8 +230,8 @@ def _runs_code(conv: dict) -> list[str]:
 def _missing_scalars(conv: dict) -> list[str]:
     """The scalars some finished ladder runs hold and others do not (a stress read that
     failed, a grid without contact; 2B-GA's record: the ring's near-load value, not a target,
-    absent at level 2): the study has no ± for them and the verdict does not judge them, so
-    a targeted one is named here rather than left out silently."""
+    absent at level 2): the study has no ± for them, and a targeted one fails the verdict of
+    the run that lacks it (:func:`postprocess.convergence_study.recommend`)."""
     ladder = [r for r in conv["runs"] if "error" not in r and r.get("degree") ==
               conv.get("ladder_degree")]  # fmt: skip
     have = {run_label(r["level"], r["degree"]): set(r.get("scalars") or {}) for r in ladder}
@@ -237,7 +240,7 @@ def _missing_scalars(conv: dict) -> list[str]:
     missing = {k: labs for k, labs in missing.items() if labs}
     if not missing:
         return []
-    lines = ["## Scalars missing from a ladder run (no ± and no verdict for them)", ""]
+    lines = ["## Scalars missing from a ladder run (no ±; a targeted one fails that run)", ""]
     lines += [f"- {k}: not in {', '.join(labs)}" for k, labs in missing.items()]
     return [*lines, ""]
 
@@ -254,7 +257,8 @@ def write_report(conv: dict, folder: Path) -> Path:
         "that run alone). Ladder: the three finest h-levels at degree "
         f"{conv['ladder_degree']}; Richardson extrapolation with the observed order over "
         "non-constant refinement ratios, GCI with factor of safety 1.25 and the order capped "
-        f"at {P_CAP:g} (postprocess/convergence.py); error = (value - extrapolated) / "
+        f"at the formal one ({P_CAP:g}; 1 for a stress read on P1 elements; postprocess/"
+        "convergence_study.py); error = (value - extrapolated) / "
         "|extrapolated|; U = the GCI uncertainty of that run (relative). Where convergence is "
         "not monotone (oscillatory, stagnant, divergent) there is no extrapolation and U is "
         "the spread of the levels.",
@@ -314,7 +318,7 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
                     v[xkey] / (1024.0 if xkey == "peak_rss_mb" else 1.0),
                     max(v["worst"][kind]["error"], 1e-5),
                     v["run"],
-                    v["worst"][kind]["how"] != "error",
+                    v["worst"][kind]["how"] != "U (GCI)",
                 )
                 for v in verdicts
                 if kind in v["worst"]
@@ -347,12 +351,12 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
         pct = PercentFormatter(1.0, decimals=None)
         ax.yaxis.set_major_formatter(pct)
         # within a decade no major tick may fall in range: label the minor ones as percent
-        # too, not as matplotlib's 6x10^-2 beside a 1.0 % (2B-GA: 1.0-5.9 %)
-        ax.yaxis.set_minor_formatter(pct if max(ys) < 10.0 * min(ys) else NullFormatter())
-    axes[0].set_ylabel("|error| against the extrapolation, or its bound (hollow)")
+        # too, not as matplotlib's 6x10^-2 beside a 1.0 % (2B-GA: 0.66-6.7 %; up to two decades)
+        ax.yaxis.set_minor_formatter(pct if max(ys) < 100.0 * min(ys) else NullFormatter())
+    axes[0].set_ylabel("worst U (the ± printed; hollow: a bound)")
     axes[0].legend(fontsize=8, loc="best", framealpha=0.9)
     fig.suptitle(
-        f"{conv['case']}: speed against error (hollow: a bound, no extrapolation: spread, "
+        f"{conv['case']}: speed against U (filled: GCI; hollow: no extrapolation: spread, "
         "two-grid GCI, or a root stress's driver + submodel U)",
         fontsize=10,
     )
