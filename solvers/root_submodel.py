@@ -91,6 +91,19 @@ SUBMODEL_GUESSES = ("rigid", "zero")
 #: 1e-5 (13-18, 47 s). 1e-6: 1.3e-4 is 30x below the smallest root-stress ± (3.5 %) and
 #: about 0.1 MPa, below the 1 MPa the values are reported to
 SUBMODEL_CG_RTOL = 1e-6
+#: GAMG's graph threshold for the sectors' aggregation (edges weaker than it, relative, are
+#: dropped before aggregating), by how often a sector is solved. The set-up is paid once per
+#: sector, the CG once per position. 1-GA's level-0 sun sector (P2, 336k DOFs, 2026-11-28,
+#: one process, the same matrix and right-hand side, relative residual 1e-6): threshold
+#: 0.05 / 0.02 / 0.0 / -1 set up in 92.5 / 38.7 / 16.0 / 14.7 s, CG 7.7 / 10.8 / 10.7 / 13.6 s
+#: (15 / 18 / 26 / 31 iterations); unsmoothed aggregation 4.8 s and 17.9 s, no aggressive
+#: coarsening 834 s. Its four level-1 sectors (0.8-1.0M DOFs), 0.02 against 0.0: set-up
+#: 101-165 against 55-67 s, CG 18-31 against 31-39 s (16-23 against 22-32 iterations). So a
+#: sector solved once (a one-position run: the convergence ladders) takes 0.0, 1.5x faster
+#: (1-GA's level-1 sectors 623 -> 373 s); one reused over a mesh cycle (``BodyStore.reuse``:
+#: the case runs, five positions) keeps 0.02, whose CG is faster. Both stop at the same
+#: residual: the values agree to CG's tolerance (1.3e-4 at most, ``SUBMODEL_CG_RTOL``).
+SUBMODEL_GAMG_THRESHOLD = {"once": 0.0, "reused": 0.02}
 
 
 class SubmodelError(RuntimeError):
@@ -137,6 +150,7 @@ class SubmodelBody:
     cut: tuple[str, ...]
     solver: str = "cg-gamg"
     guess: str = "rigid"  # CG's initial guess, SUBMODEL_GUESSES
+    gamg_threshold: float = SUBMODEL_GAMG_THRESHOLD["reused"]
 
     def __post_init__(self):
         if self.solver not in SUBMODEL_SOLVERS:
@@ -178,8 +192,8 @@ class SubmodelBody:
             opts = PETSc.Options()
             pre = f"submodel_{id(self)}_"
             self.ksp.setOptionsPrefix(pre)
-            sets = {"pc_gamg_threshold": 0.02, "mg_levels_ksp_type": "chebyshev",
-                    "mg_levels_pc_type": "jacobi"}  # fmt: skip
+            sets = {"pc_gamg_threshold": self.gamg_threshold,
+                    "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi"}  # fmt: skip
             for k, v in sets.items():
                 opts[pre + k] = v
             self.ksp.setFromOptions()
@@ -418,8 +432,9 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         def make(sb=sb, mat=mat, internal=gear.internal, comm=gb.comm):
             bundle = load_body(sb, lv, comm)
             tags = {nm: tg for nm, (d, tg) in bundle.names.items() if d == 2}
+            thr = SUBMODEL_GAMG_THRESHOLD["reused" if store.reuse else "once"]
             return SubmodelBody(sb.body, bundle.mesh, bundle.facet_tags, tags, mat, degree,
-                                cut_names(sb.body, internal))  # fmt: skip
+                                cut_names(sb.body, internal), gamg_threshold=thr)  # fmt: skip
 
         built = store.built
         sub = with_material(store.keep(skey, make), mat, ScaledSubmodel)
