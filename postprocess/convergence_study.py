@@ -306,23 +306,12 @@ def scalar_table(
             _off_ladder_runs(entry, res, others, key, f, zs)
             table[key] = entry
             continue
-        if len(lad) < 3:
-            entry.update(
-                status="incomplete",
-                order=None,
-                extrapolated=None,
-                note=f"{len(lad)} h-level(s) finished, two or three needed",
-            )
-            table[key] = entry
-            continue
         h = [_h(r, key) for r in lad]
-        if len(set(h)) < 3:  # levels 3 and 4 read the same sector (meshing.submodel)
-            entry.update(
-                status="incomplete",
-                order=None,
-                extrapolated=None,
-                note=f"two ladder runs read it on the same grid (h {h} mm): no three grids",
-            )
+        if len(lad) < 3 or len(set(h)) < 3:  # levels 3 and 4 read the same sector
+            why = f"{len(lad)} h-level(s) finished, two or three needed"
+            if len(lad) == 3:
+                why = f"two ladder runs read it on the same grid (h {h} mm): no three grids"
+            entry.update(status="incomplete", order=None, extrapolated=None, note=why)
             table[key] = entry
             continue
         cap, noise = _p_cap(lad[-1], key), _noise(lad[-1], key)
