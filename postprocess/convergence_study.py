@@ -290,7 +290,7 @@ def scalar_table(
             table[key] = entry
             continue
         if len(lad) == 2:  # the third grid did not fit: Roache's two-grid GCI
-            res = two_grid([_h(r, key) for r in lad], f, FORMAL_ORDER.get(kind, 2.0),
+            res = two_grid([_h(r, key) for r in lad], f, _p_cap(lad[-1], key),
                            zero_scale=zs)  # fmt: skip
             labels = [run_label(r["level"], r["degree"]) for r in lad]
             entry.update(

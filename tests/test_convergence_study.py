@@ -788,3 +788,15 @@ def test_two_runs_reading_the_same_sector_give_no_extrapolation():
     assert table["bending_stress.sun"]["status"] == "incomplete"
     verdict = {v["run"]: v for v in recommend(rows, table)["runs"]}
     assert "bending_stress.sun" in verdict["L2P1"]["no_bound"] and not verdict["L2P1"]["meets"]
+
+
+def test_a_two_level_study_assumes_the_formal_order_of_where_a_stress_is_read():
+    """Two levels: the GCI's assumed order is the formal one, 2 for a root stress read on
+    the P2 submodels, 1 for the contact pressure of the P1 global model (before, 1 for
+    every stress)."""
+    sigma_h = "contact_stress_cycle.sun_pinion.sigma_H_MPa"
+    rows = _ladder({"bending_stress_face_end.sun": [700.0, 710.0, 0.0],
+                    sigma_h: [1500.0, 1480.0, 0.0]})[:2]  # fmt: skip
+    table = scalar_table(rows)
+    assert table["bending_stress_face_end.sun"]["gci_order"] == 2.0
+    assert table[sigma_h]["gci_order"] == 1.0
