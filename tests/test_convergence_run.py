@@ -55,8 +55,14 @@ def test_a_convergence_run_measures_what_the_summary_reports(level0):
     reported = summary_scalars(summary, "single_pinion")
     assert set(reported) == set(row["scalars"])
     for key, value in reported.items():
-        # the same position solved twice in one process: the same numbers to round-off
-        assert row["scalars"][key] == pytest.approx(value, rel=1e-9, abs=1e-9), key
+        # the same position solved twice in one process: the same numbers to round-off, but
+        # for the root stresses of the CG submodels: the run solves each sector once (GAMG
+        # threshold 0), the case run keeps it for a mesh cycle (0.02), and the two CG stop
+        # at the same relative residual 1e-6 at another point (measured 1.6e-6 here; the
+        # test against MUMPS bounds either by 5e-4, solvers.root_submodel)
+        cg = key.startswith("bending_stress") and not key.startswith("bending_stress_global")
+        tol = 5e-4 if cg else 1e-9
+        assert row["scalars"][key] == pytest.approx(value, rel=tol, abs=1e-9), key
 
 
 def test_summary_carries_the_uncertainty_of_its_gear_set(level0):
