@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter, NullFormatter, PercentFormatter
 
 from postprocess.convergence import SAFETY_TWO_GRID
-from postprocess.convergence_study import P_CAP
+from postprocess.convergence_study import CG_NOISE, P_CAP
 from postprocess.run_scalars import run_label
 
 CHART = "speed_error.png"
@@ -261,7 +261,9 @@ def write_report(conv: dict, folder: Path) -> Path:
         "convergence_study.py); error = (value - extrapolated) / "
         "|extrapolated|; U = the GCI uncertainty of that run (relative). Where convergence is "
         "not monotone (oscillatory, stagnant, divergent) there is no extrapolation and U is "
-        "the spread of the levels.",
+        f"the spread of the levels. A root stress read on a CG submodel has a noise floor of "
+        f"{CG_NOISE:.1%}: a change between levels within it has no sign, so it counts as "
+        "stagnant (the finer pair) or divergent (the coarser pair).",
         "",
     ]
     if any(s.get("status") == "two-grid" for s in conv["scalars"].values()):
