@@ -28,8 +28,9 @@ extrapolation, and the uncertainty of every level falls back to the spread of th
   support.
 
 Where only two grids are run (a third that does not fit in memory or time, ``--levels 0 1``),
-:func:`two_grid` gives Roache's two-grid GCI with the formal order assumed
-(:data:`FORMAL_ORDER`) and the factor of safety 3: an uncertainty, no extrapolated value.
+:func:`two_grid` gives Roache's two-grid GCI with the formal order assumed (the caller's,
+:func:`postprocess.convergence_study._p_cap`) and the factor of safety 3: an uncertainty, no
+extrapolated value.
 
 A run off the ladder (another degree, e.g. P2 at the coarsest level) is compared with the
 extrapolated value in the same way (:func:`off_ladder`).
@@ -208,7 +209,6 @@ def richardson(
 
 
 SAFETY_TWO_GRID = 3.0  # Roache's factor of safety when the order is assumed, not observed
-FORMAL_ORDER = {"stress": 1.0}  # P1: point stresses O(h); moments, offsets (integrals) O(h^2)
 
 
 def two_grid(

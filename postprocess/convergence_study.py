@@ -33,7 +33,6 @@ extrapolation (not monotone) its error is bounded by the spread of the levels in
 from __future__ import annotations
 
 from postprocess.convergence import (
-    FORMAL_ORDER,
     MOMENT_RTOL,
     NEAR_ZERO,
     SAFETY,
@@ -112,9 +111,9 @@ def _p_cap(row: dict, key: str) -> float:
     (:data:`meshing.submodel.SUBMODEL_DEGREE`), every other stress is read on the global
     model of the run's degree (contact pressure, the global fillets); moments, offsets and
     line loads (integrals of the P1 displacement) converge as h^2, :data:`P_CAP`."""
-    if scalar_kind(key) != "stress":
+    if scalar_kind(key) != "stress" or _read_on_submodel(row, key):
         return P_CAP
-    return P_CAP if _read_on_submodel(row, key) else float(row["degree"]) * FORMAL_ORDER["stress"]
+    return float(row["degree"])
 
 
 def _noise(row: dict, key: str) -> float:
@@ -366,11 +365,8 @@ def _error_bound(entry: dict, label: str) -> tuple[float | None, str]:
     """The bound a run is judged on: its uncertainty U, the ± the reports print (the GCI
     with the capped order, at least the error against the extrapolation with the observed
     one; without an extrapolation, the spread bound, the two-grid GCI or the split's sum)."""
-    u = entry.get("uncertainty", {}).get(label)
-    how = {"two-grid": "two-grid GCI", "split": "driver + submodel bound"}
-    if entry.get("extrapolated") is not None and entry.get("status") != "split":
-        return u, "U (GCI)"
-    return u, how.get(entry.get("status"), "spread bound")
+    how = {"monotone": "U (GCI)", "two-grid": "two-grid GCI", "split": "driver + submodel bound"}
+    return entry.get("uncertainty", {}).get(label), how.get(entry.get("status"), "spread bound")
 
 
 def _reference_scale(row: dict, key: str) -> float | None:
