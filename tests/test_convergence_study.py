@@ -127,6 +127,28 @@ def test_report_and_chart(tmp_path):
     assert text.count("9.9 (factors on disk)") == 2 and "4.5 (factors" not in text
 
 
+def test_chart_labels_the_minor_ticks_that_do_not_crowd():
+    """All nine minor ticks of a decade crowd near its top (1-GB's 216-1687 s printed
+    600 700 800 900 1000 run together): beyond a factor 3 only 2, 3 and 5 carry a number,
+    beyond two decades none."""
+    from matplotlib.ticker import FormatStrFormatter
+
+    from postprocess.convergence_report import _minor_labels
+
+    fmt = FormatStrFormatter("%g")
+    wide = _minor_labels(fmt, 1687.0 / 216.0)
+    assert [wide(x) for x in (200.0, 300.0, 500.0, 600.0, 700.0, 900.0)] == [
+        "200",
+        "300",
+        "500",
+        "",
+        "",
+        "",
+    ]
+    assert _minor_labels(fmt, 2.0)(700.0) == "700"  # a narrow axis keeps every label
+    assert _minor_labels(fmt, 150.0)(200.0) == ""
+
+
 def test_report_names_a_scalar_missing_from_a_ladder_run(tmp_path):
     """A root stress that one ladder run did not read has no ± (the table keeps the keys
     every run has): the report names it and the run that lacks it, and that run fails the
