@@ -58,10 +58,11 @@ test: test-serial test-mpi ## run all tests
 
 # The serial tests on TEST_WORKERS processes (pytest-xdist; each test is single-threaded):
 # --dist loadfile keeps a file's tests on one worker, so its module fixtures are built once.
-# TEST_WORKERS=0 runs them in this process.
+# TEST_WORKERS=0 runs them in this process. --durations names the slowest tests in the log, so a
+# CI run that nears its 90 min says where the time went (CI keeps the log of a failed run).
 TEST_WORKERS ?= 2
 test-serial: $(STAMP)
-	$(PY) -m pytest -m "not mpi" $(if $(filter-out 0,$(TEST_WORKERS)),-n $(TEST_WORKERS) --dist loadfile)
+	$(PY) -m pytest -m "not mpi" --durations=25 $(if $(filter-out 0,$(TEST_WORKERS)),-n $(TEST_WORKERS) --dist loadfile)
 
 # Exit code 5 = no test collected under this marker; not a failure. Each test file with MPI
 # tests runs in its own pair of processes, so the memory one file's tests leave in the ranks
@@ -70,7 +71,7 @@ test-serial: $(STAMP)
 MPI_TEST_FILES = $(shell grep -l "mark.mpi" tests/test_*.py)
 test-mpi: $(STAMP)
 	@for f in $(MPI_TEST_FILES); do \
-	  $(MPIEXEC) -n 2 $(PY) -m pytest -m mpi -p no:cacheprovider -q $$f; rc=$$?; \
+	  $(MPIEXEC) -n 2 $(PY) -m pytest -m mpi -p no:cacheprovider -q --durations=5 $$f; rc=$$?; \
 	  [ $$rc -eq 0 ] || [ $$rc -eq 5 ] || exit $$rc; \
 	done
 
