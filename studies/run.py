@@ -43,6 +43,7 @@ import argparse
 import dataclasses
 import os
 import shutil
+import signal
 import sys
 import time
 import traceback
@@ -76,6 +77,7 @@ from studies.cli import (
     InputError,
     StudyFailed,
     exit_code,
+    interrupt_on_sigterm,
     one_line,
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
@@ -475,13 +477,22 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
     ranks = Ranks(comm, log=Path(args.out) / "aborted.log")
     store = BodyStore(reuse=not args.no_reuse)  # bodies factorized once for all cases
     status = EXIT_OK
+    # serial: SIGTERM (kill, a batch system's limit) stops as Ctrl-C does, finished positions
+    # kept and the finally blocks run; on several ranks it keeps its default (one rank
+    # unwinding alone would wait in a collective for the others)
+    before = interrupt_on_sigterm()
     try:
         for name in args.cases:  # a failed case does not stop the others
             status = max(status, run_case(name, args, comm, progress, ranks, store))
             if status == EXIT_INTERRUPTED:
                 break
+    except KeyboardInterrupt:  # between two cases
+        progress.error("interrupted; finished positions are kept")
+        status = EXIT_INTERRUPTED
     finally:
         ranks.free()
+        if before is not None:  # the caller's handler again (a test process, a notebook)
+            signal.signal(signal.SIGTERM, before)
     return status
 
 
