@@ -43,7 +43,6 @@ import argparse
 import dataclasses
 import os
 import shutil
-import signal
 import sys
 import time
 import traceback
@@ -480,19 +479,17 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
     # serial: SIGTERM (kill, a batch system's limit) stops as Ctrl-C does, finished positions
     # kept and the finally blocks run; on several ranks it keeps its default (one rank
     # unwinding alone would wait in a collective for the others)
-    before = interrupt_on_sigterm()
     try:
-        for name in args.cases:  # a failed case does not stop the others
-            status = max(status, run_case(name, args, comm, progress, ranks, store))
-            if status == EXIT_INTERRUPTED:
-                break
+        with interrupt_on_sigterm():
+            for name in args.cases:  # a failed case does not stop the others
+                status = max(status, run_case(name, args, comm, progress, ranks, store))
+                if status == EXIT_INTERRUPTED:
+                    break
     except KeyboardInterrupt:  # between two cases
         progress.error("interrupted; finished positions are kept")
         status = EXIT_INTERRUPTED
     finally:
         ranks.free()
-        if before is not None:  # the caller's handler again (a test process, a notebook)
-            signal.signal(signal.SIGTERM, before)
     return status
 
 
