@@ -41,6 +41,7 @@ from postprocess.convergence import (
     richardson,
     two_grid,
 )
+from postprocess.paper_moments import DIFFERENTIALS
 from postprocess.run_scalars import run_label, scalar_kind, unit
 
 P_CAP = 2.0
@@ -358,7 +359,7 @@ def _off_ladder_runs(entry: dict, res, others: list[dict], key: str, f: list[flo
 #: a difference of two larger moments is judged against them, not against itself: the
 #: SP-RP differential (about 25 N m of two 150-170 N m moments, 2B-GA) holds its moments'
 #: 1 % only as 6-7 % of itself; its own relative U is still what the reports print
-REFERENCE_KEYS = {"M_LOA_SPRP_diff": ("M_LOA_SP_RP", "M_LOA_RP_SP")}
+REFERENCE_KEYS = DIFFERENTIALS
 
 
 def _error_bound(entry: dict, label: str) -> tuple[float | None, str]:

@@ -54,6 +54,9 @@ MEAN_KEYS = {
 #: (:func:`gears.analytic.double_pinion.loa_moments`); M_LOA_SP_RP, M_LOA_RP_SP are the same
 LOA_ALIASES = {"M_LOA_sun_SP": "M_LOA_SP_SUN", "M_LOA_RP_ring": "M_LOA_RP_RING"}
 _PINION_MOMENTS = ("Mx_SP", "My_SP", "Mx_RP", "My_RP")
+#: a differential -> the two moments of opposite sign it is the sum of (one place for it: the
+#: convergence verdict judges it relative to the larger of them)
+DIFFERENTIALS = {"M_LOA_SPRP_diff": ("M_LOA_SP_RP", "M_LOA_RP_SP")}
 
 
 def with_loa_aliases(moments: dict) -> dict:
@@ -61,8 +64,9 @@ def with_loa_aliases(moments: dict) -> dict:
     differential ``M_LOA_SPRP_diff`` (when both SP-RP moments are there)."""
     out = dict(moments)
     out.update({new: moments[old] for new, old in LOA_ALIASES.items() if old in moments})
-    if "M_LOA_SP_RP" in moments and "M_LOA_RP_SP" in moments:
-        out["M_LOA_SPRP_diff"] = moments["M_LOA_SP_RP"] + moments["M_LOA_RP_SP"]
+    for diff, terms in DIFFERENTIALS.items():
+        if all(k in moments for k in terms):
+            out[diff] = sum(moments[k] for k in terms)
     return out
 
 

@@ -37,9 +37,8 @@ import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
 
 # isort: split
 import json
-import resource
-import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import dolfinx
@@ -88,22 +87,22 @@ SUBMODEL_GUESSES = ("rigid", "zero")
 #: ``python -m studies.bench_submodel`` (1-GB, level 1, roll 0, 2026-11-27): the four
 #: sectors' surface and ISO-line values against a 1e-10 residual (37-42 iterations, 109 s)
 #: moved by at most 3.4e-6 at 1e-8 (26-33, 84 s), 1.3e-4 at 1e-6 (17-23, 58 s) and 1.5e-3 at
-#: 1e-5 (13-18, 47 s). 1e-6: 1.3e-4 is 30x below the smallest root-stress ± (3.5 %) and
-#: about 0.1 MPa, below the 1 MPa the values are reported to
+#: 1e-5 (13-18, 47 s). 1e-6: 1.3e-4 is 100x below the smallest root-stress ± (1.4 %, 1-GB's
+#: sun at level 1, the record of 2026-11-28) and about 0.1 MPa, below the 1 MPa the values are
+#: reported to
 SUBMODEL_CG_RTOL = 1e-6
 #: GAMG's graph threshold for the sectors' aggregation (edges weaker than it, relative, are
-#: dropped before aggregating), by how often a sector is solved. The set-up is paid once per
-#: sector, the CG once per position. 1-GA's level-0 sun sector (P2, 336k DOFs, 2026-11-28,
-#: one process, the same matrix and right-hand side, relative residual 1e-6): threshold
-#: 0.05 / 0.02 / 0.0 / -1 set up in 92.5 / 38.7 / 16.0 / 14.7 s, CG 7.7 / 10.8 / 10.7 / 13.6 s
-#: (15 / 18 / 26 / 31 iterations); unsmoothed aggregation 4.8 s and 17.9 s, no aggressive
-#: coarsening 834 s. Its four level-1 sectors (0.8-1.0M DOFs), 0.02 against 0.0: set-up
-#: 101-165 against 55-67 s, CG 18-31 against 31-39 s (16-23 against 22-32 iterations). So a
-#: sector solved once (a one-position run: the convergence ladders) takes 0.0, 1.5x faster
-#: (1-GA's level-1 sectors 623 -> 373 s); one reused over a mesh cycle (``BodyStore.reuse``:
-#: the case runs, five positions) keeps 0.02, whose CG is faster. Both stop at the same
-#: residual: the values agree to CG's tolerance (1.3e-4 at most, ``SUBMODEL_CG_RTOL``).
-SUBMODEL_GAMG_THRESHOLD = {"once": 0.0, "reused": 0.02}
+#: dropped before aggregating). The set-up is paid once per sector, the CG once per position.
+#: 1-GA's level-0 sun sector (P2, 336k DOFs, 2026-11-28, one process, the same matrix and
+#: right-hand side, relative residual 1e-6): threshold 0.05 / 0.02 / 0.0 / -1 set up in
+#: 92.5 / 38.7 / 16.0 / 14.7 s, CG 7.7 / 10.8 / 10.7 / 13.6 s (15 / 18 / 26 / 31 iterations);
+#: unsmoothed aggregation 4.8 s and 17.9 s, no aggressive coarsening 834 s. Two of its
+#: level-1 sectors (796k and 814k DOFs, one process, 0.02 and 0.0 interleaved twice, alone on
+#: the machine): set-up 82-109 s against 34-40 s, CG 19-22 s against 21-26 s (19 against 25
+#: iterations): 0.0 is 2x faster for a sector solved once (the convergence ladders), 25 %
+#: for five solves, even at about 25; a case run reuses a sector over about 20 (four case-1
+#: cases of five positions). So one threshold, 0.0, whatever the reuse.
+SUBMODEL_GAMG_THRESHOLD = 0.0
 
 
 class SubmodelError(RuntimeError):
@@ -150,7 +149,6 @@ class SubmodelBody:
     cut: tuple[str, ...]
     solver: str = "cg-gamg"
     guess: str = "rigid"  # CG's initial guess, SUBMODEL_GUESSES
-    gamg_threshold: float = SUBMODEL_GAMG_THRESHOLD["reused"]
 
     def __post_init__(self):
         if self.solver not in SUBMODEL_SOLVERS:
@@ -192,7 +190,7 @@ class SubmodelBody:
             opts = PETSc.Options()
             pre = f"submodel_{id(self)}_"
             self.ksp.setOptionsPrefix(pre)
-            sets = {"pc_gamg_threshold": self.gamg_threshold,
+            sets = {"pc_gamg_threshold": SUBMODEL_GAMG_THRESHOLD,
                     "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi"}  # fmt: skip
             for k, v in sets.items():
                 opts[pre + k] = v
@@ -375,7 +373,8 @@ def read_for(key: str, set_key: dict[str, str], read: set[str]) -> str:
 
 def submodel_root_stress(model, result, level, store: BodyStore | None = None,
                          degree: int = SUBMODEL_DEGREE,
-                         sector: dict[str, int] | None = None) -> dict:  # fmt: skip
+                         sector: dict[str, int] | None = None,
+                         log: Callable[[str], None] | None = None) -> dict:  # fmt: skip
     """The root stress of a solved gear train read on submodels of its loaded teeth
     (module docstring), in the layout of :func:`solvers.root_stress.root_stress`; every
     key's ``locations`` also hold ``submodel``: its DOFs, read-fillet size, degree, sector
@@ -389,7 +388,9 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
     would exceed half the gear, the loaded teeth), the extra ones beyond the last loaded
     tooth and not read. With several planets only the most loaded mesh of each gear and side
     is read (:func:`most_loaded`); every other key's value is None, its ``locations`` entry
-    naming the key read instead (``read_instead``) and its load. Collective."""
+    naming the key read instead (``read_instead``) and its load. ``log``: called on every rank
+    with a line per solved sector (DOFs, set-up, solve, CG iterations; a ladder run's log).
+    Collective."""
     store = BodyStore() if store is None else store
     p, scene = model.problem, model.scene
     teeth = loaded_teeth(model)
@@ -432,9 +433,8 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         def make(sb=sb, mat=mat, internal=gear.internal, comm=gb.comm):
             bundle = load_body(sb, lv, comm)
             tags = {nm: tg for nm, (d, tg) in bundle.names.items() if d == 2}
-            thr = SUBMODEL_GAMG_THRESHOLD["reused" if store.reuse else "once"]
             return SubmodelBody(sb.body, bundle.mesh, bundle.facet_tags, tags, mat, degree,
-                                cut_names(sb.body, internal), gamg_threshold=thr)  # fmt: skip
+                                cut_names(sb.body, internal))  # fmt: skip
 
         built = store.built
         sub = with_material(store.keep(skey, make), mat, ScaledSubmodel)
@@ -460,13 +460,11 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
             **sub.solve_timings, "read_s": time.perf_counter() - t_read,
         }  # fmt: skip
         recs[key] = rec
-        if p.comm.rank == 0:  # progress of a long ladder run (the child's log)
+        if log is not None:
             m = rec["submodel"]
-            print(f"submodel {key}, fillet {lv.fillet:g} mm: {m['dofs']} DOFs, set-up "
-                  f"{m['setup_s']:.0f} s{'' if m['set_up_here'] else ' (kept)'}, solve "
-                  f"{m['solve_s']:.0f} s, {m['iterations']} iterations, peak "
-                  f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2:.1f} GB",
-                  file=sys.stderr, flush=True)  # fmt: skip
+            log(f"submodel {key}, fillet {lv.fillet:g} mm: {m['dofs']} DOFs, set-up "
+                f"{m['setup_s']:.0f} s{'' if m['set_up_here'] else ' (kept)'}, solve "
+                f"{m['solve_s']:.0f} s, {m['iterations']} iterations")  # fmt: skip
         del sub, u  # a submodel the store does not keep is freed before the next is built
     method = (f"P{degree} submodel of the loaded teeth (read fillets {lv.fillet:g} mm), driven "
               "by the global displacement; cell stress at the fillet vertices, averaged over "

@@ -18,7 +18,6 @@ import argparse
 import json
 import os
 import platform
-import resource
 import subprocess
 import sys
 import tempfile
@@ -31,6 +30,7 @@ from meshing.body_cache import body_mesh_file
 from meshing.build import scene_mesh_file
 from meshing.carrier import carrier_mesh_file, carrier_spec
 from meshing.scenes import build_scene
+from studies.memory import peak_rss_mb
 
 TARGET_SECONDS = 60.0  # issue: case 1 one-branch scene at the default level
 
@@ -49,7 +49,6 @@ def _one(item: str, level: int) -> dict:
         g = build_scene("one_branch", load_gearset(gs_name)).gear(body)
         _, meta = body_mesh_file(g.body, level, g.active_teeth)
     wall = time.perf_counter() - t0
-    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return {
         "item": item,
         "level": level,
@@ -60,7 +59,7 @@ def _one(item: str, level: int) -> dict:
         "wall_seconds": wall,
         "geometry_seconds": meta.get("geometry_seconds"),
         "mesh_seconds": meta.get("mesh_seconds"),
-        "peak_rss_mb": peak_kb / 1024.0,
+        "peak_rss_mb": peak_rss_mb(),
     }
 
 

@@ -9,6 +9,7 @@ printed only with ``--traceback`` (for a bug report); position failures keep the
 
 from __future__ import annotations
 
+import contextlib
 import signal
 import sys
 import threading
@@ -77,28 +78,33 @@ def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt(f"stopped by {signal.Signals(signum).name}")
 
 
+@contextlib.contextmanager
 def interrupt_on_sigterm():
-    """Let SIGTERM (``kill``, a batch system's time limit) unwind a serial process as Ctrl-C
-    does, so its ``finally`` blocks run: the out-of-core factor folders of a convergence
-    ladder (tens of GB at level 2) are removed instead of left in the temporary folder.
-    Under MPI (``mpi4py`` imported, more than one rank) SIGTERM keeps its default: a rank
-    unwinding alone could wait forever in a collective call for the others. Returns the
-    handler it replaced (None if it left SIGTERM alone)."""
+    """Within the block, SIGTERM (``kill``, a batch system's time limit) unwinds a serial
+    process as Ctrl-C does, so its ``finally`` blocks run: the out-of-core factor folders of
+    a convergence ladder (tens of GB at level 2) are removed instead of left in the temporary
+    folder. Under MPI (``mpi4py`` imported, more than one rank) SIGTERM keeps its default: a
+    rank unwinding alone could wait forever in a collective call for the others. After the
+    block the caller's handler is back (a test process, a notebook)."""
     mpi = sys.modules.get("mpi4py.MPI")
-    if mpi is not None and mpi.COMM_WORLD.Get_size() > 1:
-        return None
-    if threading.current_thread() is not threading.main_thread():
-        return None
-    return signal.signal(signal.SIGTERM, _interrupt)
+    serial = mpi is None or mpi.COMM_WORLD.Get_size() == 1
+    if not serial or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, before)
 
 
 def guarded(body, *, traceback: bool = False) -> int:
     """Run an entry point's ``body()`` and turn a failure into one line ``error: ...`` on
     stderr and the pipeline's exit code (with ``traceback``, re-raise for a bug report).
     A serial process stops on SIGTERM as on Ctrl-C (:func:`interrupt_on_sigterm`)."""
-    before = interrupt_on_sigterm()
     try:
-        body()
+        with interrupt_on_sigterm():
+            body()
     except KeyboardInterrupt as exc:
         if traceback:
             raise
@@ -109,7 +115,4 @@ def guarded(body, *, traceback: bool = False) -> int:
             raise
         print(f"error: {one_line(exc)}", file=sys.stderr)
         return exit_code(exc)
-    finally:
-        if before is not None:  # the caller's handler again (a test process, a notebook)
-            signal.signal(signal.SIGTERM, before)
     return EXIT_OK

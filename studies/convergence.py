@@ -63,7 +63,8 @@ from postprocess.convergence_study import reduce_study
 from postprocess.run_scalars import run_label
 from studies.cli import InputError, guarded
 from studies.files import ResultFileError, read_json, write_json
-from studies.position_runs import mem_available_gb, print_row, run_child, solve_run
+from studies.memory import mem_available_gb
+from studies.position_runs import print_row, run_child, solve_run
 from studies.provenance import code_hash, git_revision
 from studies.uncertainty import RECORDS, STUDY_FILE, failed_runs, match_key, recorded
 
@@ -449,8 +450,12 @@ def main(argv=None) -> int:
             traceback=True,
         )
     if args.reduce_records:
-        done = lambda: print("\n".join(f"reduced again: {p}" for p in reduce_records(args.records)))  # noqa: E731
-        return guarded(done)
+
+        def reduce_and_say() -> None:
+            for path in reduce_records(args.records):
+                print(f"reduced again: {path}")
+
+        return guarded(reduce_and_say)
     if not args.case:
         ap.error("give the case: python -m studies.convergence 1-GB")
     return guarded(lambda: study(args), traceback=args.traceback)

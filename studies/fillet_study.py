@@ -44,7 +44,8 @@ from solvers.gear_train import build_gear_train
 from solvers.root_stress import root_stress
 from studies.cli import InputError, guarded
 from studies.files import write_json
-from studies.position_runs import peak_rss_mb, print_row, run_child
+from studies.memory import peak_rss_mb
+from studies.position_runs import print_row, run_child
 
 
 def loaded_fillets_only(scene):

@@ -14,7 +14,6 @@ train carries (:mod:`postprocess.train_results`), the paper's quantities of each
 from __future__ import annotations
 
 import math
-import resource
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -33,6 +32,7 @@ from solvers.gear_train import build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
 from solvers.root_submodel import sector_teeth, submodel_root_stress
+from studies.memory import peak_rss_mb
 
 _SECTOR_MEMO: dict[str, dict[str, int]] = {}  # see cycle_sector_teeth
 
@@ -109,6 +109,7 @@ def solve_position(
     scene_options: dict | None = None,
     store: BodyStore | None = None,
     submodel_levels: tuple[int, ...] = (),
+    sector_log: Callable[[str], None] | None = None,
 ) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
     (``model.level``, ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
@@ -123,7 +124,8 @@ def solve_position(
     ``submodel_levels``: read the root stress also on the submodels of these global levels
     (their sectors, :func:`meshing.submodel.submodel_level`) at the same
     global solution, in ``bending_stress_fillets`` keyed by the read fillet size (``"%g"``):
-    the submodel ladder of a convergence study (:mod:`studies.convergence`)."""
+    the submodel ladder of a convergence study (:mod:`studies.convergence`); ``sector_log``:
+    called with a line per root-stress sector solved (a ladder run's log; every rank)."""
     store = BodyStore() if store is None else store
     store.begin_position()
     num = study.numerics
@@ -167,7 +169,7 @@ def solve_position(
     if num.root_stress == "submodel" and micro is None:
         sector = cycle_sector_teeth(study, roll, spacing, width, scene_options)
     if num.root_stress == "submodel":
-        bs = submodel_root_stress(model, result, level, store, sector=sector)
+        bs = submodel_root_stress(model, result, level, store, sector=sector, log=sector_log)
         if refined:  # the global model's own value beside it, a check
             check = root_stress(model, result)
             bs["global"] = {k: check[k] for k in bs["locations"]}
@@ -177,13 +179,13 @@ def solve_position(
     t_post = time.perf_counter()
     # the submodel ladder: timed apart (and the memory peak before it kept), so a run's wall
     # time and memory stay those of the run alone
-    rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    rss_mb = peak_rss_mb()
     if submodel_levels:
         if num.root_stress != "submodel":
             raise ValueError("submodel_levels needs numerics.root_stress = 'submodel'")
         out["bending_stress_fillets"] = {
             f"{submodel_level(k).fillet:g}": submodel_root_stress(
-                model, result, k, store, sector=sector
+                model, result, k, store, sector=sector, log=sector_log
             )
             for k in submodel_levels
         }

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import json
 import os
-import resource
 import shutil
 import subprocess
 import sys
@@ -33,22 +32,10 @@ from postprocess.run_scalars import summary_scalars
 from postprocess.summary import cycle_bending, summarise
 from solvers.body_store import BodyStore
 from solvers.elastic_body import OOC_DIR_ENV, ooc_folder
+from studies.memory import peak_rss_mb
 from studies.position import roll_angles, solve_position
 
 ROW_MARK = "@@row "  # the line of the child's stdout that holds its row
-
-
-def peak_rss_mb() -> float:
-    """Peak resident memory of this process (MB; Linux reports ru_maxrss in kB)."""
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-
-
-def mem_available_gb() -> float:
-    """MemAvailable of /proc/meminfo (GB): what a new run can take without swapping."""
-    for line in Path("/proc/meminfo").read_text().splitlines():
-        if line.startswith("MemAvailable:"):
-            return int(line.split()[1]) / 1024.0**2
-    return float("nan")
 
 
 def _time_split(positions: list[dict]) -> dict[str, float]:
@@ -132,6 +119,7 @@ def solve_run(
             store=store,
             submodel_levels=tuple(submodel_levels),
             progress=progress,
+            sector_log=progress,
         )
         for roll in roll_angles(study, positions)
     ]

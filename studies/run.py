@@ -76,6 +76,7 @@ from studies.cli import (
     InputError,
     StudyFailed,
     exit_code,
+    interrupt_on_sigterm,
     one_line,
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
@@ -475,11 +476,18 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
     ranks = Ranks(comm, log=Path(args.out) / "aborted.log")
     store = BodyStore(reuse=not args.no_reuse)  # bodies factorized once for all cases
     status = EXIT_OK
+    # serial: SIGTERM (kill, a batch system's limit) stops as Ctrl-C does, finished positions
+    # kept and the finally blocks run; on several ranks it keeps its default (one rank
+    # unwinding alone would wait in a collective for the others)
     try:
-        for name in args.cases:  # a failed case does not stop the others
-            status = max(status, run_case(name, args, comm, progress, ranks, store))
-            if status == EXIT_INTERRUPTED:
-                break
+        with interrupt_on_sigterm():
+            for name in args.cases:  # a failed case does not stop the others
+                status = max(status, run_case(name, args, comm, progress, ranks, store))
+                if status == EXIT_INTERRUPTED:
+                    break
+    except KeyboardInterrupt:  # between two cases
+        progress.error("interrupted; finished positions are kept")
+        status = EXIT_INTERRUPTED
     finally:
         ranks.free()
     return status

@@ -73,3 +73,23 @@ def test_guarded_gives_the_handler_back():
     assert cli.guarded(lambda: 1 / 0) == cli.EXIT_INTERNAL
     assert signal.getsignal(signal.SIGTERM) is before
     assert seen == [cli._interrupt]
+
+
+def test_a_case_run_stops_on_sigterm_and_says_so(tmp_path):
+    """``python -m studies.run`` (serial) stopped by SIGTERM while it solves: the interrupted
+    exit code and its one line, as Ctrl-C gives, no traceback (without the handler it ends
+    at once with status -15 and says nothing)."""
+    proc = subprocess.Popen([sys.executable, "-u", "-m", "studies.run", "1-GA", "--level",
+                             "0", "--positions", "2", "--out", str(tmp_path)], cwd=REPO,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_sigint_default)  # fmt: skip
+    seen = ""
+    while "position 1/2: scene" not in seen:  # the first position has begun (its stage line
+        char = proc.stdout.read(1)  # opens and stays open until the position ends)
+        assert char, f"the run ended first: {seen!r}"
+        seen += char
+    os.kill(proc.pid, signal.SIGTERM)
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode == EXIT_INTERRUPTED, err
+    assert "Traceback" not in err
+    assert "error: 1-GA: interrupted; finished positions are kept" in err
