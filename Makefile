@@ -215,12 +215,15 @@ convergence-main: $(STAMP) ## the ladders behind the ±, unless recorded (RECORD
 bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
 	@$(MAKE) --no-print-directory convergence CASE=1-GB CONV_EXTRA=0:2
 
-# The radial mesh stiffness of the case-1 meshes from the FE (pust2016), level 0, with the case's
-# contact model (zone) and with the line model, the closed form's premise (forces on the plane
-# of action), in line/ (about 4 min for both on 2 busy cores).
+# The radial mesh stiffness of the case-1 meshes from the FE (pust2016): with the case's
+# contact model (zone) at level RS_LEVEL (1: the level-0 zone grid's fit sits 7-11 % off the
+# closed form, level 1's within about 2 %; README) and with the line model, the closed form's
+# premise (forces on the plane of action, exact at any level), at level 0 in line/. 45 solves
+# each: 30.5 min and 7.1 GB at level 1, 3.5 min at level 0 (2026-11-29, beside other work).
+RS_LEVEL ?= 1
 .PHONY: radial-stiffness phasing
 radial-stiffness: $(STAMP) ## FE radial mesh stiffness, floating-sun threshold: results/radial_stiffness/
-	$(PY) -m studies.radial_stiffness --case 1-GB --level 0 --out $(RESULTS)/radial_stiffness
+	$(PY) -m studies.radial_stiffness --case 1-GB --level $(RS_LEVEL) --out $(RESULTS)/radial_stiffness
 	$(PY) -m studies.radial_stiffness --case 1-GB --level 0 --contact-model line \
 	  --out $(RESULTS)/radial_stiffness/line
 

@@ -3,6 +3,7 @@ floating-sun models built on it (postprocess.radial_stiffness_fe)."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -13,7 +14,13 @@ from gears.analytic import radial_stiffness as rs
 from postprocess import radial_stiffness_fe as rf
 from solvers.body_store import BodyStore
 from studies.case_variants import global_root_stress
-from studies.radial_stiffness import normal_backlash_um, solve_offsets, with_backlash
+from studies.radial_stiffness import (
+    K_R_FROM,
+    main,
+    normal_backlash_um,
+    solve_offsets,
+    with_backlash,
+)
 
 H = 0.01  # mm, the larger step of `make radial-stiffness`
 
@@ -105,10 +112,11 @@ def test_branch_model_two_and_three_branches():
     assert lam[0] == pytest.approx(lam[1], rel=1e-9)  # isotropic for N >= 3
 
 
-def _synthetic(ratio: float, model: str = "zone") -> dict:
+def _synthetic(ratio: float, model: str = "zone", jitter: float = 0.0) -> dict:
     """A radial_stiffness.json of 1-GB built from the closed form: F_rad(d) its on-plane
     part F_bt sin(alpha_wt(a + d)) plus an off-plane rest -(ratio - 1) k_closed d, so that
-    FE / closed form = ratio (up to the central difference's truncation)."""
+    FE / closed form = ratio (up to the truncation), plus ``jitter`` N on the rest at the
+    offsets +-5 um, of opposite signs (a zone grid's changing cell set)."""
     import dataclasses
 
     study = load_study_case("1-GB")
@@ -129,8 +137,9 @@ def _synthetic(ratio: float, model: str = "zone") -> dict:
             plane = sgn * rs.separating_force(
                 an["transverse_force_N"], rb, a["centre_distance_mm"] + d
             )
+            wiggle = jitter * ((d == -0.005) - (d == 0.005))
             out[kind] = {
-                "radial_force_N": plane - (ratio - 1) * a["k_r_pitch_form_N_per_mm"] * d,
+                "radial_force_N": plane - (ratio - 1) * a["k_r_pitch_form_N_per_mm"] * d + wiggle,
                 "plane_radial_force_N": plane,
                 "transverse_force_N": an["transverse_force_N"],
                 "alpha_wt_deg": math.degrees(math.acos(rb / (a["centre_distance_mm"] + d))),
@@ -146,7 +155,7 @@ def _synthetic(ratio: float, model: str = "zone") -> dict:
         "analytic": an,
         "records": {str(d): r for d, r in recs.items()},
         "k_r_steps": ks,
-        "k_r": {k: ks[k]["0.005"] for k in rf.KINDS},
+        "k_r": {k: rf.fit_stiffness(recs, k) for k in rf.KINDS},
     }
     k_ext, k_int = nominal["k_r"]["external"], nominal["k_r"]["internal"]
     a_s, a_r = (math.radians(an[k]["alpha_wt_deg"]) for k in rf.KINDS)
@@ -165,10 +174,12 @@ def _synthetic(ratio: float, model: str = "zone") -> dict:
             "sweep_mm": steps + sweep,
             "torque_factors": [1.0],
             "rolls_pitch": [0.0, 0.5],
+            "k_r_from": K_R_FROM,
         },
         "nominal": nominal,
         "torque_runs": [nominal],
         "second_roll": dict(nominal["k_r"]),
+        "second_roll_records": nominal["records"],
         "coast_min_gap_um": 50.0,
         "coast_force_max_N": 0.0,
         "pinion_radial_deflection_um": 0.3,
@@ -215,3 +226,39 @@ def test_report_states_the_disagreement():
     text = rf.report(data)
     assert "independent of the mesh position" not in text
     assert "**k_r depends on the mesh position**" in text
+
+
+def test_the_fit_over_the_sweep_is_the_stiffness_not_a_short_difference():
+    # 1 N of opposite signs at +-5 um (the size of the level-1 zone grid's scatter, 0.95 N)
+    # moves the 5 um central difference by 1 / 0.005 = 200 N/mm, 26 % of the closed form's
+    # -761 N/mm; the fit over 0, +-5, +-10, +-20, +-30 um moves by 2 x 1 x 0.005 / 2.85e-3 =
+    # 3.5 N/mm (0.46 %). The report leads with the fit and bounds it by the scatter.
+    data = _synthetic(1.0, "zone", jitter=1.0)
+    c = rf.checks(data)
+    json.dumps(c)  # written into radial_stiffness.json: plain floats and bools
+    for kind in rf.KINDS:
+        k = c["kinds"][kind]
+        kc = k["closed_form_N_per_mm"]
+        assert k["k_cd_N_per_mm"] - kc == pytest.approx(200.0, rel=1e-3)
+        k_line = kc * (1 + k["fit_truncation_rel"])  # the closed form's own fit
+        assert k["k_r_N_per_mm"] - k_line == pytest.approx(2 * 0.005 / 2.85e-3, rel=1e-9)
+        # the jitter is all off the plane: the on-plane slope is the closed form's fit
+        assert k["k_plane_N_per_mm"] / kc - 1 == pytest.approx(k["fit_truncation_rel"], abs=1e-9)
+        # its bound: s sum|d| / sum d^2 with s the largest departure about the line (~1 N)
+        assert k["fit_scatter_bound_N_per_mm"] >= abs(k["k_r_N_per_mm"] - kc)
+    assert not c["exact"] and not c["steps"]
+    text = rf.report(data)
+    assert "**the FE does not give the closed form**" in text
+    assert "-0.5% / +0.5%" in text  # the fit's departure, external / internal (k_ext < 0)
+    assert "-26.3% / +29.9%" in text  # the 5 um central difference's
+    assert "which is why k_r is the fit over the whole sweep" in text
+
+
+def test_report_only_refuses_a_study_of_central_differences(tmp_path, capsys):
+    data = _synthetic(1.0, "line")
+    del data["inputs"]["k_r_from"]
+    (tmp_path / "radial_stiffness.json").write_text(json.dumps(data))
+    assert main(["--case", "1-GB", "--out", str(tmp_path), "--report-only"]) == 3
+    err = capsys.readouterr().err
+    assert "written before k_r was taken from the least-squares line" in err
+    assert "Traceback" not in err and not (tmp_path / "report.md").exists()
