@@ -18,6 +18,7 @@ from mpi_reference import serial_on_rank0
 from system_case import as_system
 
 from cases.study_case import load_study_case
+from solvers import root_submodel
 from solvers.body_store import BodyStore
 from studies.case_variants import coarse_root_fillets
 from studies.position import solve_position
@@ -179,12 +180,16 @@ def test_reuse_gives_the_same_numbers():
 
 
 @pytest.mark.mpi
-def test_system_scene_parallel_equals_serial():
+def test_system_scene_parallel_equals_serial(monkeypatch):
     """The system scene (1-GB, steel carrier) on 2 ranks against a serial solve: MUMPS on
-    another partition changes round-off only (1e-6 is a wide margin). The root stress, read
-    on the most loaded planet's sectors by CG to a relative residual of 1e-6 (which moves
-    it by about 1e-4, solvers.root_submodel.SUBMODEL_CG_RTOL), on another partition's AMG
-    within 1e-3, and on the same planets (both ranks chose them from rank 0's loads)."""
+    another partition changes round-off only (1e-6 is a wide margin). The root stress is
+    read on the most loaded planet's sectors (both ranks chose them from rank 0's loads) by
+    CG, here to a relative residual of 1e-9 instead of the pipeline's 1e-6: at 1e-6 the two
+    partitions' AMG stop at different errors, which moved an ISO-line value by 1.06e-3 at
+    level 0 (sun_pinion2_side 775.55 against 776.37 MPa, 2026-11-29, GAMG threshold 0), so
+    a comparison there measures where CG stops, not the parallel reading. At 1e-9 (1e-8
+    moved level-1 values by 3.4e-6 against 1e-10, SUBMODEL_CG_RTOL) 1e-4 is a wide margin."""
+    monkeypatch.setattr(root_submodel, "SUBMODEL_CG_RTOL", 1e-9)
     study = as_system(load_study_case("1-GB"))
     par = solve_position(study, 0.0, MPI.COMM_WORLD, level=0)
     ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, level=0))
@@ -199,8 +204,8 @@ def test_system_scene_parallel_equals_serial():
     ]
     for k in sb["locations"]:
         if sb[k] is not None:
-            assert pb[k] == pytest.approx(sb[k], rel=1e-3), k
-            assert pb["tangent"][k] == pytest.approx(sb["tangent"][k], rel=1e-3), k
+            assert pb[k] == pytest.approx(sb[k], rel=1e-4), k
+            assert pb["tangent"][k] == pytest.approx(sb["tangent"][k], rel=1e-4), k
 
 
 def test_store_replaces_bodies_of_another_material_instead_of_adding_them():
