@@ -219,7 +219,7 @@ bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-
 # contact model (zone) at level RS_LEVEL (1: the level-0 zone grid's fit sits 7-11 % off the
 # closed form, level 1's within about 2 %; README) and with the line model, the closed form's
 # premise (forces on the plane of action, exact at any level), at level 0 in line/. 45 solves
-# each: 30.5 min and 7.1 GB at level 1, 3.5 min at level 0 (2026-11-29, beside other work).
+# each: 30.5 min and 6.7 GB at level 1, 3.5 min at level 0 (2026-11-29, beside other work).
 RS_LEVEL ?= 1
 .PHONY: radial-stiffness phasing
 radial-stiffness: $(STAMP) ## FE radial mesh stiffness, floating-sun threshold: results/radial_stiffness/

@@ -493,17 +493,13 @@ def figure_radial_force(data: dict, path: Path) -> Path:
         for j, run in enumerate(data["torque_runs"]):
             recs = {float(k): v for k, v in run["records"].items()}
             d = _offsets(recs)
-            f = np.array([recs[x][kind]["radial_force_N"] for x in d])
-            f0 = recs[0.0][kind]["radial_force_N"]
-            an = run["analytic"][kind]
-            a0 = an["centre_distance_mm"]
-            rb = a0 * math.cos(math.radians(an["alpha_wt_deg"]))
-            sgn = 1 if kind == "external" else -1
+            f = np.array([radial_force(recs[x], kind) for x in d])
+            f0 = radial_force(recs[0.0], kind)
             dd = np.linspace(d.min(), d.max(), 101)
-            f_bt = run["analytic"]["transverse_force_N"]
-            fa = np.array([sgn * rs.separating_force(f_bt, rb, a0 + x) for x in dd])
+            fa = _closed_curve(run["analytic"], kind, dd)
+            fa0 = _closed_curve(run["analytic"], kind, np.zeros(1))[0]
             c = f"C{j}"
-            ax.plot(dd * 1e3, fa - sgn * rs.separating_force(f_bt, rb, a0), color=c, lw=0.9)
+            ax.plot(dd * 1e3, fa - fa0, color=c, lw=0.9)
             ax.plot(
                 d * 1e3,
                 f - f0,

@@ -173,7 +173,6 @@ def run(args, comm=MPI.COMM_WORLD) -> dict:
         "nominal": nominal,
         "torque_runs": runs,
         "second_roll": {k: rf.fit_stiffness(recs2, k) for k in rf.KINDS},
-        "second_roll_steps": _k_steps(recs2, steps),
         "second_roll_records": {str(d): r for d, r in recs2.items()},
     }
     data["inputs"] = {
