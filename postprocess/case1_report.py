@@ -93,7 +93,9 @@ def write_report(results: Path) -> Path:
         "checks it against Hertz and ISO), `edge` the largest at a tip, form-circle or face-end",
         "point: an edge-load indicator (the tooth models have sharp tips and no end relief, so",
         "a loaded corner gives a value that grows with refinement, not a stress to design to),",
-        "`mean` the mean over loaded points. Root stress: FE fillet-surface maximum over the",
+        "`mean` the mean over the loaded stations (a line grid's points, a zone grid's",
+        "sections) of each station's peak, averaged over the positions. Root stress: FE",
+        "fillet-surface maximum over the",
         "mesh cycle / ISO 6336-3 method B nominal (details in the two sections below).",
         "",
         "| case | contact sun-pinion interior / edge / mean | contact pinion-ring interior / edge"

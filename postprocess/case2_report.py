@@ -147,6 +147,18 @@ def _rel(target: Path, start: Path) -> str:
     return Path(os.path.relpath(target, start)).as_posix()
 
 
+def _sun_pitch(s: dict) -> float:
+    """One mesh cycle of the sun angle (rad), 2 pi / Z_sun: the positions' span."""
+    gs = s["inputs"]["gearset"]
+    return 2.0 * math.pi / gs["gears"][gs["power_path"][0]]["teeth"]
+
+
+def _rest(d: dict) -> float:
+    """What the pitch-point and centroid terms leave of D_fe: the terms beyond the centroid
+    offsets and the cells' moment about the point forces (postprocess.paper_moments)."""
+    return d["other"] + d["from_cells"]
+
+
 def _bearing(s: dict) -> dict:
     return s["inputs"]["study_case"]["bearing"]
 
@@ -437,7 +449,8 @@ def _differential_section(runs: dict, ref: dict) -> list[str]:
         f"centroid {1 / dz_sprp:.3f} mm ({1 / dz_sprp / face:.2%} of the {face:g} mm face) off",
         "mid face moves D by 1 N m. Its own misalignment moves it back (self-correcting).",
         "",
-        "| case | D FE (positions) | Table 5 | sun-SP Z | SP-RP Z | RP-ring Z | all s | rest |"
+        "| case | D FE (positions) | at the pitch points | sun-SP Z | SP-RP Z | RP-ring Z | all s"
+        " | rest |"
         " D - Table 5 | SP-RP centroid that alone explains it | f_ma (um) | um per N m of D |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
@@ -452,7 +465,7 @@ def _differential_section(runs: dict, ref: dict) -> list[str]:
             f"| {name} | {d['D_fe']:.1f} ({lo:.1f} .. {hi:.1f}) | {d['D_pitch']:.1f} | "
             f"{sd['sun-SP_SP']['from_Z']:+.1f} | "
             f"{sd['SP-RP_SP']['from_Z'] + sd['SP-RP_RP']['from_Z']:+.1f} | "
-            f"{sd['RP-ring_RP']['from_Z']:+.1f} | {d['from_s']:+.1f} | {d['other']:+.1e} | "
+            f"{sd['RP-ring_RP']['from_Z']:+.1f} | {d['from_s']:+.1f} | {_rest(d):+.1e} | "
             f"{gap:+.1f} | {gap / dz_sprp:+.2f} mm ({abs(gap / dz_sprp) / face:.1%}) | "
             f"{d['misalignment_um']:+.3g} | {per:.3g} |"
         )
@@ -471,7 +484,7 @@ def _um_per_nm(s: dict) -> float:
 def _differential_reading(runs, ref, names, d_t5, dz_sprp, face) -> list[str]:
     """What the numbers say, as sentences (each computed)."""
     out = ["", "Reading:", ""]
-    closure = max(abs(runs[n]["sp_rp_differential"]["other"]) for n in names)
+    closure = max(abs(_rest(runs[n]["sp_rp_differential"])) for n in names)
     pitch = max(abs(runs[n]["sp_rp_differential"]["D_pitch"] - d_t5) for n in names)
     out.append(
         f"- Our post-processing is not the cause: with every FE mesh force put back at its "
@@ -495,7 +508,7 @@ def _differential_reading(runs, ref, names, d_t5, dz_sprp, face) -> list[str]:
         main = max(terms, key=lambda k: abs(terms[k]))
         out.append(
             f"- {n} ({_label(s)}), {len(s['positions'])} positions at level {s['level']}: D = "
-            f"{d['D_fe']:.1f} N m = {d['D_pitch']:.1f} (Table 5) "
+            f"{d['D_fe']:.1f} N m = {d['D_pitch']:.1f} (at the pitch points) "
             + " ".join(f"{v:+.1f} ({k})" for k, v in terms.items())
             + f"; the largest term is {main}. Over the mesh cycle D runs "
             f"{min(r['D_fe'] for r in rows):.1f} .. {max(r['D_fe'] for r in rows):.1f} N m while "
@@ -724,7 +737,7 @@ def _differential_plot(runs: dict, ref: dict, path: Path) -> None:
     d_t5 = _t5(ref, "2-B", "M_LOA_SP_RP") + _t5(ref, "2-B", "M_LOA_RP_SP")
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
     bx2 = bx.twinx()
-    labels = ["Table 5", "sun-SP Z", "SP-RP Z", "RP-ring Z", "all s", "FE"]
+    labels = ["pitch points", "sun-SP Z", "SP-RP Z", "RP-ring Z", "all s", "FE"]
     width = 0.8 / len(names)
     top = d_t5
     for i, n in enumerate(names):
@@ -741,7 +754,7 @@ def _differential_plot(runs: dict, ref: dict, path: Path) -> None:
         ax.bar(x0[-1], d["D_fe"], width, color=f"C{i}", alpha=0.5)
         top = max(top, d["D_pitch"] + max(np.cumsum(steps).max(), 0.0), d["D_fe"])
         rolls = [p["roll"] for p in runs[n]["positions"]]
-        pitch = rolls[1] * len(rolls) if len(rolls) > 1 else 1.0
+        pitch = _sun_pitch(runs[n])  # the cycle, not the first step: a failed position
         frac = [r / pitch for r in rolls]
         bx.plot(frac, [p["M_LOA_SPRP_diff"] for p in runs[n]["positions"]], "o-", color=f"C{i}",
                 label=f"{n} D")  # fmt: skip
@@ -751,7 +764,7 @@ def _differential_plot(runs: dict, ref: dict, path: Path) -> None:
     ax.set_ylim(top=1.1 * top)
     ax.set_xticks(np.arange(len(labels)), labels, fontsize=8)
     ax.set_ylabel("SP-RP differential D (N m)")
-    ax.set_title("D = Table 5 + load-centroid terms (means)")
+    ax.set_title("D = at the pitch points + load-centroid terms (means)")
     ax.legend(fontsize=8)
     bx.axhline(d_t5, color="k", lw=0.8, ls="--", label="Table 5")
     bx.set_xlabel("mesh position (fraction of a sun base pitch)")

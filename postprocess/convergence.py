@@ -353,8 +353,11 @@ def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
         "± : discretisation uncertainty of the value at its mesh level (GCI with factor of "
         "safety 1.25 from a Richardson extrapolation over mesh levels 0-2, or the spread of "
         "the levels where they do not converge monotonically; where only levels 0-1 fit, "
-        "Roache's two-grid GCI with factor of safety 3 and the formal order; an offset's "
-        "± as written under its table); "
+        "Roache's two-grid GCI with factor of safety 3 and the formal order; a root stress "
+        "read on a submodel: the sum of the driver's and the sector's U, each from its own "
+        "ladder; an offset's ± as written under its table). The study solves one mesh "
+        "position (roll 0): its relative U is carried to the case's means and cycle maxima; "
+        "a value with no ± has no U in the study (an input, or within the CG noise); "
     )
     text += "; ".join(parts) if parts else "no case has one"
     if without and parts:

@@ -16,7 +16,10 @@ def failed_positions_lines(runs: Mapping[str, Mapping]) -> list[str]:
         failed = s.get("failed_positions") or []
         if not failed:
             continue
-        which = ", ".join(str(f.get("position")) for f in failed)
+        # stored from 0 (studies.run), named from 1 as the run's log and error name them
+        which = ", ".join(
+            str(k + 1) if isinstance(k := f.get("position"), int) else "?" for f in failed
+        )
         first = str(failed[0].get("error", "no error recorded")).splitlines()[0]
         lines.append(
             f"**Warning: {name} lost position(s) {which} of "

@@ -76,8 +76,10 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
         "ISO: method B nominal sigma_F0 (K factors 1, Y_B = Y_DT = 1; tooth thickness allowance",
         "included; the ring by ISO's substitute rack at 60 deg) with Y_beta of the 2006 edition;",
         "in brackets with the 2019 edition's Y_beta (the 2006 one divided by cos(beta)^3).",
+        "`at`: the maximum's tooth, flank side and place along the face, Z = -z (scene) as in",
+        "ZS and ZR, from the face centre.",
         "",
-        "| case | level / P | gear | FE surface | at (tooth, side, z mm) | face end"
+        "| case | level / P | gear | FE surface | at (tooth, side, Z mm) | face end"
         f" | FE 30/60 deg | {check} | ISO sigma_F0 (2019) | surface / ISO | 30/60 / ISO |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]  # fmt: skip
@@ -98,7 +100,9 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
             sig = (iso.get(k) or {}).get("sigma_F0", iso0.get(k))
             sig19 = (iso.get(k) or {}).get("sigma_F0_Ybeta2019")
             a = at.get(k) or {}
-            where = (f"{a['tooth']}, {a['side']}, {a['z_mm']:+.1f}"
+            # Z = -z (scene), the axis of ZS / ZR (solvers.gear_train): a root maximum at the
+            # face end the load centroid leans to has the centroid's sign
+            where = (f"{a['tooth']}, {a['side']}, {0.0 - a['z_mm']:+.1f}"
                      if a.get("tooth") is not None else "-")  # fmt: skip
             head = f"| {name} | {s.get('level', '-')} / {s.get('degree', '-')} " if i == 0 else (
                 "| | ")  # fmt: skip

@@ -213,6 +213,22 @@ def test_an_offset_carries_its_relative_uncertainty_to_another_case_or_none():
     assert plus_minus({**gb, "uncertainty": {}, "uncertainty_abs": {}}, "ZS") == ""
 
 
+def test_another_case_takes_at_least_the_studys_absolute_uncertainty():
+    """1-GA takes 1-GB's study: ZS U 3.1 % of 1-GB's -3.1 mm, 0.096 mm. On 1-GA's -0.19 mm
+    the relative U alone said ± 0.006 mm, 16x below what the same grids gave 1-GB; the ±
+    is at least the study's absolute U. The same for a difference of two moments (its
+    error is its moments', not its own size); a plain moment keeps its relative U."""
+    src = {"case": "1-GB"}
+    ga = {"case": "1-GA", "ZS": -0.19, "My_pin": 40.0, "M_LOA_SPRP_diff": 5.0,
+          "uncertainty": {"ZS": 0.031, "My_pin": 0.02, "M_LOA_SPRP_diff": 0.0106},
+          "uncertainty_abs": {"ZS": 0.096, "My_pin": 4.3, "M_LOA_SPRP_diff": 0.26},
+          "uncertainty_source": src}  # fmt: skip
+    assert plus_minus(ga, "ZS", ".3f") == " ± 0.096"  # not 0.031 x 0.19 = 0.006
+    assert plus_minus({**ga, "ZS": -9.0}, "ZS", ".2f") == " ± 0.28"  # 3.1 % of 9 mm
+    assert plus_minus(ga, "M_LOA_SPRP_diff", ".2f") == " ± 0.26"  # not 1.06 % of 5 N m
+    assert plus_minus(ga, "My_pin") == " ± 0.8"  # 2 % of 40 N m, not the study's 4.3
+
+
 # ------------------------------------------------------------------ an FE case with a limit
 A, B, PRESSURE = 1.0, 2.0, 100.0  # mm, mm, MPa
 STEEL = Material(206000.0, 0.3)

@@ -78,6 +78,11 @@ def test_report_sections_print_fe_beside_iso():
     assert f"| 1-GA | 1 / 1 | sun | 600 | 3, pos, +0.0 | - | 580 | 500 | {sun:.0f} (" in text
     assert f"| {600 / sun:.2f} | {580 / sun:.2f} |" in text
     assert "| | ring | 450 |" in text
+    # where: Z = -z (scene), the axis of ZS / ZR; z = 1.5 mm at roll 1 prints Z = -1.5
+    s1 = {**s, **cycle_bending([_pos(1.0, 600.0, 450.0, (580.0, 440.0), (500.0, 300.0))])}
+    assert "| sun | 600 | 3, pos, -1.5 |" in "\n".join(
+        root_section({"1-GA": s1}, ("sun",), ["1-GA"])
+    )
     assert iso["ring"]["internal"] and not iso["sun"]["internal"]
     # a summary without the contact cycle prints no row, and old summaries do not fail
     assert len(contact_section({"1-GA": {}}, ("sun_pinion",), ["1-GA"])) > 5

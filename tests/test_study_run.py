@@ -157,7 +157,8 @@ def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     from postprocess.case1_report import write_report
 
     text = write_report(tmp_path).read_text()
-    assert "**Warning: 1-GA lost position(s) 1 of 2** (first error: " in text
+    # the second of two (stored from 0, named from 1 as in the run's log)
+    assert "**Warning: 1-GA lost position(s) 2 of 2** (first error: " in text
     assert "active set did not converge (test)" in text and "over the 1 that finished" in text
 
 
