@@ -66,16 +66,19 @@ def match_key(study: StudyCase) -> dict:
     }
 
 
-def _studies(folder: Path, name: str, key: dict):
+def _studies(folder: Path, name: str, key: dict, unreadable: list[str] | None = None):
     """(path, study) of every readable convergence study under ``folder`` whose match key is
-    ``key``: the one of case ``name`` first, then the others in name order."""
+    ``key``: the one of case ``name`` first, then the others in name order. The paths it
+    could not read go to ``unreadable`` (``path: reason``)."""
     paths = sorted(
         Path(folder).glob(f"*/{STUDY_FILE}"), key=lambda p: (p.parent.name != name, p.parent.name)
     )
     for path in paths:
         try:
             conv = read_json(path)
-        except ResultFileError:
+        except ResultFileError as exc:
+            if unreadable is not None:
+                unreadable.append(f"{path}: {exc}")
             continue
         if isinstance(conv, dict) and conv.get("match") == key and conv.get("scalars"):
             yield path, reduce_study(conv)
@@ -126,9 +129,18 @@ def summary_uncertainty(
     A record adds ``uncertainty_source.recorded`` (date and commit)."""
     folder = Path(results) / "convergence"
     key = match_key(study)
-    found = list(_studies(folder, study.name, key))
+    unreadable: list[str] = []
+    found = list(_studies(folder, study.name, key, unreadable))
     if records is not None:
-        found += list(_studies(records, study.name, key))
+        found += list(_studies(records, study.name, key, unreadable))
+    out = _from_studies(study, level, degree, folder, key, found)
+    if unreadable:  # a damaged study of this machine must not stand aside unseen
+        out["uncertainty_source"]["note"] += "; skipped as unreadable: " + "; ".join(unreadable)
+    return out
+
+
+def _from_studies(study, level, degree, folder, key, found) -> dict:
+    """:func:`summary_uncertainty` from the readable studies ``found``."""
     if found:
         now = [code_hash()]
         # a study whose run at this level failed (a timeout) gives no ± there: the next one

@@ -193,6 +193,13 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
     )
     case2 = summary_uncertainty(load_study_case("2B-GA"), 1, 1, tmp_path, records=None)
     assert case2["uncertainty"] is None and "gear set case2" in case2["uncertainty_source"]["note"]
+    # a damaged study beside it is named in the note, not passed over in silence
+    (tmp_path / "convergence" / "1-GC").mkdir()
+    (tmp_path / "convergence" / "1-GC" / STUDY_FILE).write_text("{ not json")
+    again = summary_uncertainty(ga, 1, 1, tmp_path, records=None)
+    assert again["uncertainty"] == got["uncertainty"]
+    assert "skipped as unreadable: " in again["uncertainty_source"]["note"]
+    assert "1-GC" in again["uncertainty_source"]["note"]
     # a study of the zone contact model (the default) does not serve a line-model case
     # (other numerics)
     line = replace(ga, numerics=replace(ga.numerics, contact_model="line"))
