@@ -20,8 +20,18 @@ class AnalyticStudy:
     bearing_radial_stiffness: dict[str, float]  # study case -> radial pin-bearing N/mm
 
 
+def _beside(value: str, path: Path) -> str | Path:
+    """A name as it is; a path ending in .toml relative to the study file's folder (as a
+    study case's ``gearset``), not the working directory."""
+    target = Path(value)
+    if value.endswith(".toml") and not target.is_absolute():
+        return path.parent / target
+    return value
+
+
 def load_analytic_study(name_or_path: str | Path = "singh2007") -> AnalyticStudy:
-    """Load ``cases/analytic/<name>.toml`` (or a path to such a file)."""
+    """Load ``cases/analytic/<name>.toml`` (or a path to such a file). Its gear sets and
+    study cases: names, or paths ending in .toml relative to the file's folder."""
     path = Path(name_or_path)
     if path.suffix != ".toml":
         path = ANALYTIC_DIR / f"{name_or_path}.toml"
@@ -37,12 +47,20 @@ def load_analytic_study(name_or_path: str | Path = "singh2007") -> AnalyticStudy
         name = data.get(key)
         if not isinstance(name, str) or not name:
             raise CaseError(f"{src}: {key} = {name!r}: must name a gear set (cases/gearsets/)")
-        gs = load_gearset(name)
+        try:
+            gs = load_gearset(_beside(name, path))
+        except CaseError as exc:
+            raise CaseError(f"{src}: {key} = {name!r}: {exc}") from exc
         if gs.kind != kind:
             raise CaseError(f"{src}: {key} = {name!r} is a {gs.kind} set; must be {kind}")
         sets[key] = gs
     names = data.get("bearing_cases")
     if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
         raise CaseError(f"{src}: bearing_cases = {names!r}: must be a list of study-case names")
-    radial = {n: load_study_case(n).bearing.radial_stiffness for n in names}
+    radial = {}
+    for n in names:
+        try:
+            radial[n] = load_study_case(_beside(n, path)).bearing.radial_stiffness
+        except CaseError as exc:
+            raise CaseError(f"{src}: bearing_cases: {n!r}: {exc}") from exc
     return AnalyticStudy(sets["single_pinion"], sets["double_pinion"], radial)

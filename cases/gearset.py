@@ -31,7 +31,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from gears.analytic.phasing import assemblable_angles
 from gears.analytic.planetary import PlanetaryInput
+from gears.layout import layout_clearances
 from gears.microgeometry import FIELDS as MODIFICATION_FIELDS
 from gears.microgeometry import FlankModifications
 from gears.pair import (
@@ -51,6 +53,11 @@ CENTRE_DISTANCE_TOL = 1e-6
 # Names of cases and gear sets: also folder names of their outputs.
 NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]*")
 MAX_NAME_LENGTH = 64
+# Names of gears: they name bodies, files and keys. The all-planet scenes name branch k's
+# pinion <name><k>, and keys join names with "_" (sun_pinion_side), so a letter first, then
+# letters and digits only.
+GEAR_NAME_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9]*")
+MAX_GEAR_NAME_LENGTH = 16
 
 _TOP_FIELDS = ("name", "kind", "input_torque", "planets", "power_path", "common", "gears", "meshes")
 _GEAR_FIELDS = (
@@ -71,6 +78,10 @@ _COMMON_FIELDS = tuple(
     f for f in _GEAR_FIELDS if f not in {"teeth", "hand", "face_width", "internal", "modifications"}
 )
 _MESH_FIELDS = ("gears", "centre_distance", "normal_backlash_um")
+# fields without a default in GearSpec (in [gears.X] or [common])
+_REQUIRED_GEAR_FIELDS = (
+    "teeth", "normal_module", "normal_pressure_angle", "helix_angle", "hand", "face_width",
+)  # fmt: skip
 UM = 1e-3  # mm per um
 #: largest normal backlash a gear-set file may ask for (um)
 MAX_BACKLASH_UM = 1000.0
@@ -202,6 +213,50 @@ def _check_kind_geometry(kind: str, meshes: list[GearMeshSpec], source: str) -> 
         )
 
 
+def _check_gear_names(names: list[str], source: str) -> None:
+    """Gear names: ``GEAR_NAME_PATTERN``, and none another's name with a number after it
+    (branch 1 of a pinion ``P`` is ``P1`` in the all-planet scenes)."""
+    for n in names:
+        _require(
+            len(n) <= MAX_GEAR_NAME_LENGTH and GEAR_NAME_PATTERN.fullmatch(n) is not None,
+            source,
+            f"gears.{n}: a gear name must be 1 to {MAX_GEAR_NAME_LENGTH} letters and digits, "
+            "starting with a letter (it names bodies, files and result keys)",
+        )
+    for n in names:
+        for m in names:
+            _require(
+                m == n or not (m.startswith(n) and m[len(n) :].isdigit()),
+                source,
+                f"gears.{m}: its name is gears.{n}'s with a number after it, the name the "
+                f"all-planet scenes give a branch's {n}: rename one",
+            )
+
+
+def _check_layout(
+    kind: str, planets: int, path: list[GearSpec], meshes: list[GearMeshSpec], source: str
+) -> None:
+    """Gears that do not mesh clear each other (:mod:`gears.layout`), the branches at the
+    default carrier angles (:func:`gears.analytic.phasing.assemblable_angles`)."""
+    double = kind == "double_pinion"
+    angles = assemblable_angles(path[0].teeth, path[-1].teeth, planets, double)
+    clear = layout_clearances(
+        [g.name for g in path],
+        [g.tip_radius for g in path],
+        [m.centre_distance for m in meshes],
+        angles,
+    )
+    for what, c in clear:
+        _require(
+            c > 0.0,
+            source,
+            f"planets = {planets}, meshes' centre_distance = "
+            f"{[m.centre_distance for m in meshes]}: the tip circles of {what} overlap by "
+            f"{-c:.3f} mm (at carrier angles {[round(math.degrees(a), 2) for a in angles]} "
+            "deg): fewer planets, other centre distances or smaller gears",
+        )
+
+
 def parse_gearset(
     data: dict[str, Any], source: str = "<gearset>", path: str | Path = ""
 ) -> GearSet:
@@ -224,16 +279,23 @@ def parse_gearset(
     _require(isinstance(raw_gears, dict) and raw_gears, source, "gears: at least one [gears.X]")
     gears: dict[str, GearSpec] = {}
     modifications: dict[str, FlankModifications] = {}
+    _check_gear_names(list(raw_gears), source)
     for gname, g in raw_gears.items():
         where = f"{source}: gears.{gname}"
         check_keys(g, _GEAR_FIELDS, source, f"gears.{gname}")
         g = dict(g)
         if "modifications" in g:
             modifications[gname] = _modifications(g.pop("modifications"), source, gname)
+        missing = [f for f in _REQUIRED_GEAR_FIELDS if f not in {**common, **g}]
+        _require(not missing, where, f"missing field(s) {', '.join(missing)}")
+        _require(
+            "shaper_teeth" not in g or g.get("internal") is True,
+            where,
+            "shaper_teeth: only for an internal gear (the ring, cut by a pinion-type shaper); "
+            "external gears are hobbed",
+        )
         try:
             gears[gname] = GearSpec(name=gname, **{**common, **g})
-        except TypeError as exc:  # a required field is missing
-            raise CaseError(f"{where}: {exc}") from exc
         except GeometryError as exc:
             raise CaseError(f"{where}: {exc}") from exc
 
@@ -323,6 +385,7 @@ def parse_gearset(
         except GeometryError as exc:
             raise CaseError(f"{source}: gears.{gname}: {exc}") from exc
     modifications = {k: v for k, v in modifications.items() if not v.is_zero}
+    _check_layout(kind, planets, [gears[p] for p in power_path], meshes, source)
     return GearSet(
         name, kind, torque, planets, tuple(power_path), gears, tuple(meshes), str(path), data,
         modifications,

@@ -232,7 +232,7 @@ class System:
             raise CaseError(
                 f"{source}: system.pin_position_errors_um = {list(map(list, e))!r}: must be "
                 f"empty or {planets} pairs [tangential, radial] of numbers within "
-                f"+-{MAX_PIN_ERROR_UM:g} um (one per pinion)"
+                f"+-{MAX_PIN_ERROR_UM:g} um (one per branch: a double pinion's SP pin)"
             )
 
 
@@ -351,11 +351,18 @@ def parse_study_case(
     except CaseError as exc:
         raise CaseError(f"{source}: {exc}") from exc
     s = check_keys(data.get("system", {}), _names(System), source, "system")
+    if s and model.scene != "system":  # read by the system scene only: never ignored silently
+        raise CaseError(
+            f"{source}: system.{', system.'.join(s)}: only for model.scene = 'system' (the "
+            f"carrier as a body), not {model.scene!r}: remove [system] or change the scene"
+        )
     raw_errors = s.get("pin_position_errors_um", [])
-    try:
-        errors = tuple(tuple(pe) for pe in raw_errors)
-    except TypeError:
-        errors = ((float("nan"),),)  # not a list of pairs: refused by the check
+    if not isinstance(raw_errors, list) or not all(isinstance(pe, list) for pe in raw_errors):
+        raise CaseError(
+            f"{source}: system.pin_position_errors_um = {raw_errors!r}: must be a list of "
+            "[tangential, radial] pairs of numbers (um), one per branch"
+        )
+    errors = tuple(tuple(pe) for pe in raw_errors)
     system = System(s.get("sun_radial_stiffness", 0.0), errors)
     system.check(gearset.planets, source)
     errors = tuple((float(a), float(b)) for a, b in system.pin_position_errors_um)

@@ -235,9 +235,14 @@ class GearPair:
                     f"contact; {g2.name}.teeth - {g1.name}.teeth = {g2.teeth - g1.teeth} is "
                     "too few for these tip circles"
                 )
-        if self.total_contact_ratio < 1.0:
+        # eps_alpha, not eps_gamma: a helical overlap of 2 let a path of contact of negative
+        # length (teeth that never meet) pass a check of the total; ISO 6336-2/-3 (Z_eps, the
+        # load at the outer point of single tooth contact) take eps_alpha >= 1
+        if self.transverse_contact_ratio < 1.0:
             raise GeometryError(
-                f"{where}: total contact ratio {self.total_contact_ratio:.3f} must be >= 1"
+                f"{where}: transverse contact ratio eps_alpha = "
+                f"{self.transverse_contact_ratio:.3f} must be >= 1 (the path of contact at "
+                "least one base pitch; ISO 6336's factors assume it)"
             )
 
 

@@ -65,6 +65,13 @@ MAX_UNDERCUT = 0.1
 MAX_THICKNESS_ALLOWANCE = 0.25
 
 
+#: where a gear-set file's profile shifts come from, for messages that ask for another one
+_SHIFT_NOTE = (
+    "in a gear-set file the shifts follow from the centre distances, the sun's is 0: change "
+    "teeth or centre_distance"
+)
+
+
 class GeometryError(ValueError):
     """Invalid gear data; the message names the field and the allowed range or value."""
 
@@ -175,7 +182,8 @@ class GearSpec:
                 self._fail(
                     "profile_shift",
                     f"internal tip radius {self.tip_radius:.4f} mm must exceed the base radius "
-                    f"{self.base_radius:.4f} mm (raise profile_shift or lower addendum_coef)",
+                    f"{self.base_radius:.4f} mm (raise profile_shift or lower addendum_coef; "
+                    f"{_SHIFT_NOTE})",
                 )
             self._integer("shaper_teeth", MIN_SHAPER_TEETH)
             if self.shaper_teeth >= self.teeth:
@@ -258,7 +266,7 @@ class GearSpec:
                 "profile_shift",
                 f"undercut removes {self.undercut_fraction:.0%} of the involute (roll length "
                 f"from base to tip circle), at most {MAX_UNDERCUT:.0%} allowed; no undercut "
-                f"needs profile_shift >= {x_min:.3f}",
+                f"needs profile_shift >= {x_min:.3f} ({_SHIFT_NOTE})",
             )
         if self.sigma * (r_a - r_form) <= 0.0:
             self._fail(

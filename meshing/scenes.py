@@ -30,6 +30,7 @@ from dataclasses import dataclass, field, replace
 
 from cases.study_case import SCENES as SCENE_NAMES
 from gears.analytic.phasing import assemblable_angles, planet_layout
+from gears.layout import layout_clearances
 from meshing import tags as T
 from meshing.assemble import Placement
 from meshing.carrier import carrier_spec, sun_rp_angle
@@ -413,6 +414,7 @@ def planetary_scene(
             angles = [float(x) for x in assemblable_angles(sun.teeth, ring.teeth, n, double)]
         else:
             angles = _given_planet_angles(planet_angles_deg, n, carrier)
+            _check_given_layout(gearset, angles, planet_angles_deg)
         branch_names = [[f"{p}{k + 1}" for p in pinions] for k in range(n)]
     else:
         if planet_angles_deg is not None:
@@ -513,6 +515,22 @@ def _given_planet_angles(angles_deg, n: int, carrier: bool) -> list[float]:
     if carrier:
         raise MeshingError("planet_angles_deg: the carrier body has its pins at equal spacing")
     return rad
+
+
+def _check_given_layout(gearset, angles: list[float], angles_deg) -> None:
+    """Given carrier angles: the pinions of two branches clear each other (the gear set's
+    own check, :func:`cases.gearset.parse_gearset`, holds at its default angles)."""
+    path = [gearset.gears[p] for p in gearset.power_path]
+    clear = layout_clearances(
+        gearset.power_path, [g.tip_radius for g in path],
+        [m.centre_distance for m in gearset.meshes], angles,
+    )  # fmt: skip
+    for what, c in clear:
+        if c <= 0.0:
+            raise MeshingError(
+                f"planet_angles_deg = {list(angles_deg)!r}: the tip circles of {what} overlap "
+                f"by {-c:.3f} mm"
+            )
 
 
 def branch_scene(gearset, roll: float = 0.0, **options) -> Scene:

@@ -20,7 +20,8 @@ over the load centroids (``sp_rp_differential``, :func:`postprocess.paper_moment
 _sp_rp_differential`).
 
 Contact stress: ``contact_stress`` and ``contact_stress_mean_loaded`` are kept as before (the
-means over the positions of each position's peak and of its mean over loaded points); the
+means over the positions of each position's peak and of the mean over its loaded stations
+(a line grid's points, a zone grid's sections) of each station's peak); the
 numbers to quote are in ``contact_stress_cycle`` (per mesh, :func:`postprocess.mesh_stress.
 contact_stress_cycle`): the maximum over the mesh cycle at interior points, the edge maximum
 as an edge-load indicator, K_Hbeta = w_max / w_mean and ISO 6336-2 sigma_H0 sqrt(K_Hbeta).

@@ -119,3 +119,26 @@ def test_the_case2_report_takes_the_paper_tables_only_for_the_paper_set(tmp_path
     )
     ref = analytic_reference(_summary_of(steeper), path)
     assert ref["printed"] is None and "holds another gear set" in ref["source"]
+
+
+def test_analytic_study_paths_are_taken_beside_its_file(tmp_path, monkeypatch):
+    """A gear set given as a path in the study file is read from the file's folder, as a
+    study case's ``gearset`` is, not from the working directory: there an unrelated file of
+    the same name was read instead, without a word."""
+    from cases.analytic_study import load_analytic_study
+    from cases.gearset import GEARSET_DIR, CaseError
+
+    folder = tmp_path / "an"
+    folder.mkdir()
+    text = (GEARSET_DIR / "case1.toml").read_text()
+    (folder / "mine.toml").write_text(text.replace('name = "case1"', 'name = "beside"'))
+    (tmp_path / "mine.toml").write_text(text.replace('name = "case1"', 'name = "cwd"'))
+    study = folder / "study.toml"
+    study.write_text('single_pinion = "mine.toml"\ndouble_pinion = "case2"\n'
+                     'bearing_cases = ["1-GA"]\n')  # fmt: skip
+    monkeypatch.chdir(tmp_path)
+    assert load_analytic_study(study).single_pinion.name == "beside"
+    study.write_text('single_pinion = "case1"\ndouble_pinion = "case2"\n'
+                     'bearing_cases = ["1-GX"]\n')  # fmt: skip
+    with pytest.raises(CaseError, match=r"^study\.toml: bearing_cases: '1-GX': "):
+        load_analytic_study(study)

@@ -468,3 +468,100 @@ def test_inputs_hash_follows_the_gearset(tmp_path):
 def test_available_cases_list_the_shipped_ones():
     cases = available_cases()
     assert cases == sorted(cases) and set(SHIPPED) <= set(cases)
+
+
+# ------------------------------------------------- gear sets that load but cannot exist
+def test_teeth_that_never_meet_are_refused():
+    """case1 with a 76-tooth ring: its pinion-ring mesh had eps_alpha = -0.47 (a path of
+    contact of negative length, the pinion's tips short of the ring's) and passed the
+    check of the total contact ratio, 1.61 with the overlap ratio of 2.08."""
+    data = _mutated(_set_raw(), ["gears", "ring", "teeth"], 76)
+    with pytest.raises(CaseError, match=r"transverse contact ratio eps_alpha = -0\.4\d\d must be"):
+        parse_gearset(data, "case1.toml")
+
+
+def test_a_transverse_contact_ratio_below_one_is_refused_at_its_bound():
+    """80 teeth: eps_alpha 0.47; the shipped 86 teeth: 1.58 (both helical, eps_beta 2.08)."""
+    with pytest.raises(CaseError, match=r"eps_alpha = 0\.4"):
+        parse_gearset(_mutated(_set_raw(), ["gears", "ring", "teeth"], 80), "case1.toml")
+    assert parse_gearset(_set_raw(), "case1.toml").gears["ring"].teeth == 86
+
+
+@pytest.mark.parametrize(
+    ("base", "path", "value", "what"),
+    [
+        # 7 pinions of 23.73 mm tip radius on a 51.945 mm circle: 44.4 mm apart, need 47.5
+        ("case1", ["planets"], 7, r"pinion\d and pinion\d overlap by 3\.0\d\d mm"),
+        ("case1", ["planets"], 12, r"pinion\d+ and pinion\d+ overlap"),
+        # 4 SP-RP pairs: neighbouring branches' pinions overlap
+        ("case2", ["planets"], 4, r"(SP|RP)\d and (SP|RP)\d overlap"),
+    ],
+)
+def test_overlapping_planets_are_refused(base, path, value, what):
+    with pytest.raises(CaseError, match=rf"^{base}\.toml: planets = {value}, .*{what}"):
+        parse_gearset(_mutated(_set_raw(base), path, value), f"{base}.toml")
+
+
+def test_a_double_pinion_ring_that_cuts_into_the_sp_is_refused():
+    """case2 with an 84-tooth ring at a 52.5 mm RP-ring centre distance: every mesh is a good
+    mesh (eps_alpha 1.46-1.51), but the RP's tips reach into the sun's and the SP's into the
+    ring's teeth; the SP-ring gap of the shipped set is 1.97 mm."""
+    data = _mutated(_set_raw("case2"), ["gears", "ring", "teeth"], 84)
+    data = _mutated(data, ["meshes", 2, "centre_distance"], 52.5)
+    with pytest.raises(CaseError, match=r"tip circles of RP and sun overlap by 1\.096 mm"):
+        parse_gearset(data, "case2.toml")
+
+
+@pytest.mark.parametrize(
+    ("names", "match"),
+    [
+        ({"sun": "P1", "pinion": "P"}, r"gears\.P1: its name is gears\.P's with a number"),
+        ({"pinion": "../x y"}, r"gears\.\.\./x y: a gear name must be 1 to 16 letters"),
+        ({"pinion": "pin_ion"}, r"gears\.pin_ion: a gear name must be"),
+    ],
+)
+def test_gear_names_that_collide_or_leave_the_folder_are_refused(names, match):
+    """A sun named P1 beside a pinion P: the all-planet scenes named branch 1's pinion P1
+    too, and the scene's gear 'P1' was the sun; a name with '/' named files outside the
+    results folder; '_' joins names in result keys (sun_pinion_side)."""
+    data = _set_raw()
+    for old, new in names.items():
+        data["gears"][new] = data["gears"].pop(old)
+        data["power_path"] = [new if p == old else p for p in data["power_path"]]
+        for m in data["meshes"]:
+            m["gears"] = [new if g == old else g for g in m["gears"]]
+    with pytest.raises(CaseError, match=rf"^case1\.toml: {match}"):
+        parse_gearset(data, "case1.toml")
+
+
+def test_shaper_teeth_on_an_external_gear_is_refused():
+    data = _mutated(_set_raw(), ["gears", "sun", "shaper_teeth"], 3)
+    with pytest.raises(CaseError, match=r"gears\.sun: shaper_teeth: only for an internal gear"):
+        parse_gearset(data, "case1.toml")
+
+
+def test_a_missing_gear_field_is_named_not_a_python_error():
+    data = _mutated(_set_raw(), ["gears", "sun", "teeth"], None)
+    with pytest.raises(CaseError, match=r"^case1\.toml: gears\.sun: missing field\(s\) teeth$"):
+        parse_gearset(data, "case1.toml")
+
+
+def test_system_settings_outside_the_system_scene_are_refused():
+    """1-GA (one branch) with a 200 um pin error: read by the system scene only, the run
+    ignored it while the inputs' hash changed."""
+    data = _case_raw("1-GA")
+    data["system"] = {"pin_position_errors_um": [[200.0, 0.0], [0.0, 0.0], [0.0, 0.0]]}
+    with pytest.raises(CaseError, match=r"system\.pin_position_errors_um: only for model\.scene"):
+        parse_study_case(data, "1-GA.toml", CASE_DIR / "1-GA.toml")
+    data["model"]["scene"] = "system"
+    assert parse_study_case(data, "1-GA.toml", CASE_DIR / "1-GA.toml").system.pin_position_errors_um
+
+
+@pytest.mark.parametrize("value", [5, "ab", [1.0, 2.0]])
+def test_pin_errors_that_are_not_pairs_are_echoed_as_written(value):
+    data = _case_raw("1-GA")
+    data["model"]["scene"] = "system"
+    data["system"] = {"pin_position_errors_um": value}
+    with pytest.raises(CaseError) as info:
+        parse_study_case(data, "1-GA.toml", CASE_DIR / "1-GA.toml")
+    assert f"pin_position_errors_um = {value!r}: must be" in str(info.value)

@@ -64,6 +64,8 @@ def test_parker_angles_snap_and_assemble():
         ("all_planets", (0.0, 120.0), "must be 3 finite numbers"),
         ("all_planets", (0.0, 120.0, math.nan), "must be 3 finite numbers"),
         ("all_planets", (0.0, 120.0, 360.0), "two planets at one angle"),
+        # planets of 38.0 mm tip radius 20 deg apart on a 63.0 mm circle: 21.9 mm between centres
+        ("all_planets", (0.0, 20.0, 240.0), r"tip circles of planet1 and planet2 overlap by"),
         ("one_branch", (0.0, 120.0, 240.0), "only for the all-planet scenes"),
         ("system", (0.0, 120.0, 240.0), "carrier body"),
     ],
