@@ -84,12 +84,11 @@ SUBMODEL_SOLVERS = ("cg-gamg", "mumps")
 SUBMODEL_GUESSES = ("rigid", "zero")
 #: relative residual of the CG solve. CG takes nearly all of a sector's solve time (0.6-0.8 s
 #: an iteration at level 1's sectors), so this sets what the submodels cost per position.
-#: ``python -m studies.bench_submodel`` (1-GB, level 1, roll 0, 2026-11-27): the four
-#: sectors' surface and ISO-line values against a 1e-10 residual (37-42 iterations, 109 s)
-#: moved by at most 3.4e-6 at 1e-8 (26-33, 84 s), 1.3e-4 at 1e-6 (17-23, 58 s) and 1.5e-3 at
-#: 1e-5 (13-18, 47 s). 1e-6: 1.3e-4 is 100x below the smallest root-stress ± (1.4 %, 1-GB's
-#: sun at level 1, the record of 2026-11-28) and about 0.1 MPa, below the 1 MPa the values are
-#: reported to
+#: ``python -m studies.bench_submodel`` (1-GB, level 1, roll 0, 2026-11-29, GAMG threshold
+#: 0): the four sectors' surface and ISO-line values against a 1e-10 residual moved by at most
+#: 4.1e-6 at 1e-8, 3.4e-4 at 1e-6 (20-32 iterations) and 4.4e-3 at 1e-5 (at threshold 0.02 on
+#: 2026-11-27: 3.4e-6, 1.3e-4, 1.5e-3). 1e-6: 3.4e-4 is 40x below the smallest root-stress ±
+#: (1.4 %, 1-GB's sun at level 1) and about 0.3 MPa, below the 1 MPa the values are reported to
 SUBMODEL_CG_RTOL = 1e-6
 #: GAMG's graph threshold for the sectors' aggregation (edges weaker than it, relative, are
 #: dropped before aggregating). The set-up is paid once per sector, the CG once per position.
@@ -99,9 +98,11 @@ SUBMODEL_CG_RTOL = 1e-6
 #: unsmoothed aggregation 4.8 s and 17.9 s, no aggressive coarsening 834 s. Two of its
 #: level-1 sectors (796k and 814k DOFs, one process, 0.02 and 0.0 interleaved twice, alone on
 #: the machine): set-up 82-109 s against 34-40 s, CG 19-22 s against 21-26 s (19 against 25
-#: iterations): 0.0 is 2x faster for a sector solved once (the convergence ladders), 25 %
-#: for five solves, even at about 25; a case run reuses a sector over about 20 (four case-1
-#: cases of five positions). So one threshold, 0.0, whatever the reuse.
+#: iterations). 1-GB's four level-1 sectors (``bench_submodel --thresholds 0 0.02 0 0.02``,
+#: 2026-11-29, one process, fresh sectors per pass, two passes each): set-up 230 / 489 s, CG
+#: 97.5 / 80.5 s per reuse (20-32 / 14-23 iterations), even at 15 reuses. A ladder run solves
+#: a sector once (0.0 halves its cost); at these costs case 1 reusing one over 20 solves saves
+#: 4 % at 0.02, case 2 over 10 7 % at 0.0: a wash over the make. So one threshold, 0.0.
 SUBMODEL_GAMG_THRESHOLD = 0.0
 
 
