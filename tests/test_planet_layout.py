@@ -55,3 +55,23 @@ def test_four_planet_scene_default_is_paired_and_says_so():
     assert ph.is_diametrically_opposed(got, tol=1e-9)
     assert np.degrees(got) == pytest.approx([0.0, 32 * STEP, 180.0, 95 * STEP], abs=1e-9)
     assert any("opposed pairs" in note for note in sc.notes)
+
+
+@pytest.mark.parametrize("name", ["case1", "case2"])
+def test_the_clearance_check_places_the_pinions_where_the_scenes_do(name):
+    """gears.layout (the gear set's clearance check) and meshing.scenes (the meshes) put
+    every pinion at the same centre; the shipped sets clear by at least case2's SP-ring
+    gap of 1.97 mm."""
+    from gears.layout import layout_clearances, pinion_centres
+    from meshing.scenes import branch_centres
+
+    gs = load_gearset(name)
+    a = [m.centre_distance for m in gs.meshes]
+    for psi in (0.0, 1.0, 4.2):
+        got = pinion_centres(a, psi)
+        want = branch_centres(gs, psi)
+        assert np.asarray(got) == pytest.approx(np.asarray(want)[:, :2], abs=1e-12)
+    path = [gs.gears[p] for p in gs.power_path]
+    angles = ph.assemblable_angles(path[0].teeth, path[-1].teeth, gs.planets, len(path) == 4)
+    clear = layout_clearances(gs.power_path, [g.tip_radius for g in path], a, angles)
+    assert min(c for _, c in clear) == pytest.approx(1.97 if name == "case2" else 42.06, abs=0.01)
