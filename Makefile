@@ -207,7 +207,7 @@ CONV_MAIN_TIMEOUT ?= 10800
 .PHONY: convergence-main
 convergence-main: $(STAMP) ## the ladders behind the ±, unless recorded (RECORD=1: solve and record them)
 	$(PY) -m studies.convergence 1-GB --levels 0 1 2 --extra --split-root-stress \
-	  --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
+	  --out-of-core 2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
 	$(PY) -m studies.convergence 2B-GA --levels 0 1 2 --extra --split-root-stress \
 	  --out-of-core 2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
 
