@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 import re
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -58,6 +58,8 @@ MAX_NAME_LENGTH = 64
 # letters and digits only.
 GEAR_NAME_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9]*")
 MAX_GEAR_NAME_LENGTH = 16
+# body names the scenes give to what is not a gear (meshing.scene_bodies)
+RESERVED_GEAR_NAMES = ("carrier",)
 
 _TOP_FIELDS = ("name", "kind", "input_torque", "planets", "power_path", "common", "gears", "meshes")
 _GEAR_FIELDS = (
@@ -78,10 +80,10 @@ _COMMON_FIELDS = tuple(
     f for f in _GEAR_FIELDS if f not in {"teeth", "hand", "face_width", "internal", "modifications"}
 )
 _MESH_FIELDS = ("gears", "centre_distance", "normal_backlash_um")
-# fields without a default in GearSpec (in [gears.X] or [common])
-_REQUIRED_GEAR_FIELDS = (
-    "teeth", "normal_module", "normal_pressure_angle", "helix_angle", "hand", "face_width",
-)  # fmt: skip
+# fields without a default in GearSpec (in [gears.X] or [common]); the name is the table's
+_REQUIRED_GEAR_FIELDS = tuple(
+    f.name for f in fields(GearSpec) if f.default is MISSING and f.name != "name"
+)
 UM = 1e-3  # mm per um
 #: largest normal backlash a gear-set file may ask for (um)
 MAX_BACKLASH_UM = 1000.0
@@ -223,6 +225,11 @@ def _check_gear_names(names: list[str], source: str) -> None:
             f"gears.{n}: a gear name must be 1 to {MAX_GEAR_NAME_LENGTH} letters and digits, "
             "starting with a letter (it names bodies, files and result keys)",
         )
+        _require(
+            n not in RESERVED_GEAR_NAMES,
+            source,
+            f"gears.{n}: the system scene's carrier body has this name: rename the gear",
+        )
     for n in names:
         for m in names:
             _require(
@@ -233,27 +240,31 @@ def _check_gear_names(names: list[str], source: str) -> None:
             )
 
 
-def _check_layout(
-    kind: str, planets: int, path: list[GearSpec], meshes: list[GearMeshSpec], source: str
-) -> None:
-    """Gears that do not mesh clear each other (:mod:`gears.layout`), the branches at the
-    default carrier angles (:func:`gears.analytic.phasing.assemblable_angles`)."""
-    double = kind == "double_pinion"
-    angles = assemblable_angles(path[0].teeth, path[-1].teeth, planets, double)
+def first_overlap(gs: GearSet, angles) -> tuple[str, float] | None:
+    """The first two gears that do not mesh whose tip circles overlap, with the branches at
+    carrier angles ``angles`` (rad): (which, overlap mm), or None (:mod:`gears.layout`)."""
+    path = [gs.gears[p] for p in gs.power_path]
     clear = layout_clearances(
-        [g.name for g in path],
-        [g.tip_radius for g in path],
-        [m.centre_distance for m in meshes],
-        angles,
+        gs.power_path, [g.tip_radius for g in path], [m.centre_distance for m in gs.meshes], angles
     )
-    for what, c in clear:
-        _require(
-            c > 0.0,
-            source,
-            f"planets = {planets}, meshes' centre_distance = "
-            f"{[m.centre_distance for m in meshes]}: the tip circles of {what} overlap by "
-            f"{-c:.3f} mm (at carrier angles {[round(math.degrees(a), 2) for a in angles]} "
-            "deg): fewer planets, other centre distances or smaller gears",
+    return next(((what, -c) for what, c in clear if c <= 0.0), None)
+
+
+def _check_layout(gs: GearSet, source: str) -> None:
+    """The gears of ``gs`` clear each other at its default carrier angles
+    (:func:`gears.analytic.phasing.assemblable_angles`)."""
+    path = gs.power_path
+    angles = assemblable_angles(
+        gs.gears[path[0]].teeth, gs.gears[path[-1]].teeth, gs.planets, len(path) == 4
+    )
+    hit = first_overlap(gs, angles)
+    if hit is not None:
+        what, mm = hit
+        raise CaseError(
+            f"{source}: planets = {gs.planets}, meshes' centre_distance = "
+            f"{[m.centre_distance for m in gs.meshes]}: the tip circles of {what} overlap by "
+            f"{mm:.3f} mm (at carrier angles {[round(math.degrees(a), 2) for a in angles]} "
+            "deg): fewer planets, other centre distances or smaller gears"
         )
 
 
@@ -385,11 +396,12 @@ def parse_gearset(
         except GeometryError as exc:
             raise CaseError(f"{source}: gears.{gname}: {exc}") from exc
     modifications = {k: v for k, v in modifications.items() if not v.is_zero}
-    _check_layout(kind, planets, [gears[p] for p in power_path], meshes, source)
-    return GearSet(
+    gs = GearSet(
         name, kind, torque, planets, tuple(power_path), gears, tuple(meshes), str(path), data,
         modifications,
     )  # fmt: skip
+    _check_layout(gs, source)
+    return gs
 
 
 def _modifications(table: Any, source: str, gear: str) -> FlankModifications:

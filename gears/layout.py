@@ -8,7 +8,8 @@ origin, the pinions of the branch at carrier angle psi sit at
                     psi_t = acos((a1^2 + a3^2 - a2^2) / (2 a1 a3))
 
 (a1, a2, a3 the sun-SP, SP-RP and RP-ring centre distances, u(t) = (cos t, sin t); the RP
-counter-clockwise of the SP, as the scenes place it). Gears that do not mesh then clear each
+counter-clockwise of the SP, as the scenes place it: :func:`meshing.scenes.branch_centres`
+is :func:`pinion_centres`). Gears that do not mesh then clear each
 other when (all mm, r_a the tip radii, the ring's its inner tip circle):
 
 * pinions of two branches: |c_i - c_j| > r_a,i + r_a,j;
@@ -27,16 +28,21 @@ from collections.abc import Sequence
 from gears.analytic.double_pinion import triangle_angles
 
 
-def pinion_centres(centre_distances: Sequence[float], psi: float) -> list[tuple[float, float]]:
+def pinion_centres(
+    centre_distances: Sequence[float], psi: float, rp_side: int = 1, radial_offset: float = 0.0
+) -> list[tuple[float, float]]:
     """The centres (mm) of the pinions of the branch at carrier angle ``psi`` (rad): one
     (single pinion, ``centre_distances`` = sun-pinion, pinion-ring) or SP, RP (double pinion,
-    sun-SP, SP-RP, RP-ring)."""
+    sun-SP, SP-RP, RP-ring; ``rp_side`` +1: the RP counter-clockwise of the SP, -1 clockwise).
+    ``radial_offset`` (mm) moves the (S)P outward from its centre distance."""
     a = list(centre_distances)
+    r = a[0] + radial_offset
+    first = (r * math.cos(psi), r * math.sin(psi))
     if len(a) == 2:
-        return [(a[0] * math.cos(psi), a[0] * math.sin(psi))]
+        return [first]
     a1, a2, a3 = a
-    t = psi + triangle_angles(a1, a2, a3).psi
-    return [(a1 * math.cos(psi), a1 * math.sin(psi)), (a3 * math.cos(t), a3 * math.sin(t))]
+    t = psi + rp_side * triangle_angles(a1, a2, a3).psi
+    return [first, (a3 * math.cos(t), a3 * math.sin(t))]
 
 
 def layout_clearances(

@@ -28,12 +28,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
+import numpy as np
+
+from cases.gearset import first_overlap
 from cases.study_case import SCENES as SCENE_NAMES
 from gears.analytic.phasing import assemblable_angles, planet_layout
-from gears.layout import layout_clearances
+from gears.layout import pinion_centres
 from meshing import tags as T
 from meshing.assemble import Placement
-from meshing.carrier import carrier_spec, sun_rp_angle
+from meshing.carrier import carrier_spec
 from meshing.gear_body import GearBody
 from meshing.mesh_zones import (
     MeshZone,
@@ -41,7 +44,6 @@ from meshing.mesh_zones import (
     contact_lines,
     flank_separation,
     solve_mesh,
-    unit,
 )
 from meshing.sizing import MeshingError
 
@@ -254,18 +256,15 @@ def branch_centres(gearset, psi: float, rp_side: int = +1, radial_offset: float 
     Single pinion: at the sun-pinion centre distance a1 (+ ``radial_offset``). Double
     pinion: SP at a1 (+ ``radial_offset``) on the angle ``psi``, RP at the RP-ring centre
     distance a3 on ``psi + rp_side psi_t``, psi_t = acos((a1^2 + a3^2 - a2^2) / (2 a1 a3))
-    the triangle's angle at the sun (``rp_side`` +1: RP counter-clockwise of SP).
+    the triangle's angle at the sun (``rp_side`` +1: RP counter-clockwise of SP); the
+    geometry is :func:`gears.layout.pinion_centres`, which the gear set's clearance check uses.
     """
-    a = [m.centre_distance for m in gearset.meshes]
     pinions = gearset.power_path[1:-1]
-    if len(pinions) == 1:
-        return [(a[0] + radial_offset) * unit(psi)]
-    if len(pinions) == 2:
-        if rp_side not in (1, -1):
-            raise MeshingError(f"rp_side = {rp_side!r}: must be +1 or -1")
-        a1, _, a3 = a
-        psi_t = sun_rp_angle(gearset)  # the carrier's pins use the same angle
-        return [(a1 + radial_offset) * unit(psi), a3 * unit(psi + rp_side * psi_t)]
+    if len(pinions) == 2 and rp_side not in (1, -1):
+        raise MeshingError(f"rp_side = {rp_side!r}: must be +1 or -1")
+    if len(pinions) in (1, 2):  # the carrier's pins: meshing.carrier.sun_rp_angle
+        a = [m.centre_distance for m in gearset.meshes]
+        return [np.array(c) for c in pinion_centres(a, psi, rp_side, radial_offset)]
     raise MeshingError(
         f"{gearset.name}: power path {gearset.power_path}: scenes hold one or two pinions per "
         "branch"
@@ -518,19 +517,14 @@ def _given_planet_angles(angles_deg, n: int, carrier: bool) -> list[float]:
 
 
 def _check_given_layout(gearset, angles: list[float], angles_deg) -> None:
-    """Given carrier angles: the pinions of two branches clear each other (the gear set's
-    own check, :func:`cases.gearset.parse_gearset`, holds at its default angles)."""
-    path = [gearset.gears[p] for p in gearset.power_path]
-    clear = layout_clearances(
-        gearset.power_path, [g.tip_radius for g in path],
-        [m.centre_distance for m in gearset.meshes], angles,
-    )  # fmt: skip
-    for what, c in clear:
-        if c <= 0.0:
-            raise MeshingError(
-                f"planet_angles_deg = {list(angles_deg)!r}: the tip circles of {what} overlap "
-                f"by {-c:.3f} mm"
-            )
+    """Given carrier angles: the gears clear each other there too (the gear set's own check,
+    :func:`cases.gearset.parse_gearset`, holds at its default angles)."""
+    hit = first_overlap(gearset, angles)
+    if hit is not None:
+        raise MeshingError(
+            f"planet_angles_deg = {list(angles_deg)!r}: the tip circles of {hit[0]} overlap "
+            f"by {hit[1]:.3f} mm"
+        )
 
 
 def branch_scene(gearset, roll: float = 0.0, **options) -> Scene:

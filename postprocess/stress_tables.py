@@ -101,7 +101,7 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
             sig19 = (iso.get(k) or {}).get("sigma_F0_Ybeta2019")
             a = at.get(k) or {}
             # Z = -z (scene), the axis of ZS / ZR (solvers.gear_train): a root maximum at the
-            # face end the load centroid leans to has the centroid's sign
+            # face end the load centroid leans to has the centroid's sign (0.0 - z: no -0.0)
             where = (f"{a['tooth']}, {a['side']}, {0.0 - a['z_mm']:+.1f}"
                      if a.get("tooth") is not None else "-")  # fmt: skip
             head = f"| {name} | {s.get('level', '-')} / {s.get('degree', '-')} " if i == 0 else (

@@ -518,6 +518,7 @@ def test_a_double_pinion_ring_that_cuts_into_the_sp_is_refused():
         ({"sun": "P1", "pinion": "P"}, r"gears\.P1: its name is gears\.P's with a number"),
         ({"pinion": "../x y"}, r"gears\.\.\./x y: a gear name must be 1 to 16 letters"),
         ({"pinion": "pin_ion"}, r"gears\.pin_ion: a gear name must be"),
+        ({"pinion": "carrier"}, r"gears\.carrier: the system scene's carrier body"),
     ],
 )
 def test_gear_names_that_collide_or_leave_the_folder_are_refused(names, match):

@@ -57,21 +57,40 @@ def test_four_planet_scene_default_is_paired_and_says_so():
     assert any("opposed pairs" in note for note in sc.notes)
 
 
+def test_pinion_centres_keep_the_centre_distances():
+    """gears.layout.pinion_centres (the scenes' branch_centres and the gear set's clearance
+    check): case 2's SP on a1, its RP on a3 and a2 from the SP, on the side rp_side asks for;
+    a radial offset moves the SP alone."""
+    from gears.layout import pinion_centres
+
+    a1, a2, a3 = (m.centre_distance for m in load_gearset("case2").meshes)
+    for psi in (0.0, 1.0, 4.2):
+        for side in (1, -1):
+            sp, rp = (np.asarray(c) for c in pinion_centres([a1, a2, a3], psi, side, 0.1))
+            assert np.linalg.norm(sp) == pytest.approx(a1 + 0.1, rel=1e-14)
+            assert np.linalg.norm(rp) == pytest.approx(a3, rel=1e-14)
+            sp0 = np.asarray(pinion_centres([a1, a2, a3], psi, side)[0])
+            assert np.linalg.norm(rp - sp0) == pytest.approx(a2, rel=1e-12)
+            cross = sp[0] * rp[1] - sp[1] * rp[0]  # > 0: RP counter-clockwise of SP
+            assert np.sign(cross) == side
+
+
 @pytest.mark.parametrize("name", ["case1", "case2"])
-def test_the_clearance_check_places_the_pinions_where_the_scenes_do(name):
-    """gears.layout (the gear set's clearance check) and meshing.scenes (the meshes) put
-    every pinion at the same centre; the shipped sets clear by at least case2's SP-ring
-    gap of 1.97 mm."""
-    from gears.layout import layout_clearances, pinion_centres
-    from meshing.scenes import branch_centres
+def test_the_shipped_sets_clear_by_their_hand_computed_gaps(name):
+    """The smallest clearance of the shipped sets, by hand: case 1's nearest planets (0 and
+    40 of Zs + Zr = 121 assembly steps, 119.008 deg: 121 has no thirds) are 2 a sin(40 pi /
+    121) apart, less two tip radii; case 2's SP clears the ring's tip circle by r_a,ring - a1
+    - r_a,SP."""
+    from gears.layout import layout_clearances
 
     gs = load_gearset(name)
-    a = [m.centre_distance for m in gs.meshes]
-    for psi in (0.0, 1.0, 4.2):
-        got = pinion_centres(a, psi)
-        want = branch_centres(gs, psi)
-        assert np.asarray(got) == pytest.approx(np.asarray(want)[:, :2], abs=1e-12)
     path = [gs.gears[p] for p in gs.power_path]
+    a = [m.centre_distance for m in gs.meshes]
     angles = ph.assemblable_angles(path[0].teeth, path[-1].teeth, gs.planets, len(path) == 4)
-    clear = layout_clearances(gs.power_path, [g.tip_radius for g in path], a, angles)
-    assert min(c for _, c in clear) == pytest.approx(1.97 if name == "case2" else 42.06, abs=0.01)
+    clear = dict(layout_clearances(gs.power_path, [g.tip_radius for g in path], a, angles))
+    if name == "case1":
+        gap = 2 * a[0] * math.sin(40 * math.pi / 121) - 2 * path[1].tip_radius
+        assert min(clear.values()) == pytest.approx(gap, rel=1e-12)
+    else:
+        gap = path[-1].tip_radius - a[0] - path[1].tip_radius
+        assert min(clear.values()) == clear["SP and ring"] == pytest.approx(gap, rel=1e-12)
