@@ -149,7 +149,7 @@ def _root_differences(ratios: list[float], tang: list[float], s: dict) -> list[s
         out.append(
             f"- Location: on ISO's 30/60 deg line the FE stress is {min(tang):.2f}-"
             f"{max(tang):.2f} of the FE surface maximum; the maximum sits off that line "
-            "and along the face where the contact lines carry most (its z in the table), "
+            "and along the face where the contact lines carry most (its Z in the table), "
             "while ISO takes one transverse section."
         )
     iso = s.get("bending_stress_iso6336") or {}
