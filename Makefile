@@ -149,6 +149,15 @@ fillet-study: $(STAMP) ## root stress against fillet size: results/fillet/<case>
 	$(PY) -m studies.fillet_study $(CASE) --level 1 --fillets $(FILLETS) --loaded-only \
 	  --out $(RESULTS)/fillet
 
+# Where a level's root-stress driver error comes from: the global mesh of level DRIVER_LEVEL
+# with one size at a time set to the next level's, every root stress read on the level-1
+# sector (one process; about 7 min per variant at level 0, 15-25 min at level 1, up to 16 GB).
+DRIVER_LEVEL ?= 0
+.PHONY: driver-sizes
+driver-sizes: $(STAMP) ## which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>.{json,md}
+	$(PY) -m studies.driver_sizes --case $(or $(CASE),1-GB) --level $(DRIVER_LEVEL) \
+	  --out $(RESULTS)/convergence
+
 # The bodies' linear solvers (issue 13 item 5): exact MUMPS LU, block low-rank MUMPS and
 # CG/GAMG on one 1-GB position per level; time, peak memory and the change of every result.
 LINEAR_LEVELS ?= 1 2
