@@ -17,6 +17,8 @@ conservative one). When the three grids do not converge monotonically there is n
 extrapolation, and the uncertainty of every level falls back to the spread of the levels,
 (max f - min f) / |f_k|, with the status saying why (:func:`richardson`):
 
+* ``zero``: every value is below ``zero_scale`` (a quantity that vanishes, read as
+  round-off); no extrapolation and no relative number;
 * ``mesh-independent``: the three values agree to round-off (an input, not an FE result), or
   within the solver's noise (``noise``: a change below an iterative solve's tolerance has no
   sign, so neither an order nor an oscillation can be read from it; a finer pair within it
@@ -69,7 +71,7 @@ class Richardson:
     """The convergence of one scalar over three grids (values per grid as given: same
     order as the ``h`` and ``f`` passed to :func:`richardson`)."""
 
-    status: str  # monotone, oscillatory, divergent, stagnant, mesh-independent, two-grid
+    status: str  # monotone, oscillatory, divergent, stagnant, zero, mesh-independent, two-grid
     order: float | None  # observed order p (None unless solved)
     extrapolated: float | None  # f_ext (None unless monotone)
     rel_error: tuple[float | None, ...]  # (f_k - f_ext) / |f_ext| per grid
@@ -164,6 +166,9 @@ def richardson(
             note=note + "; uncertainty = spread of the levels (max - min)",
         )
 
+    if big <= zero_scale:  # e.g. Mz of a pinion free to spin: round-off, nothing converges
+        return fallback("zero", "below the zero scale on every grid: the round-off of a "
+                        "quantity that vanishes", None)  # fmt: skip
     if spread <= SAME_RTOL * big:
         return fallback("mesh-independent", "the same value on every grid", None)
     floor = noise * big
@@ -226,7 +231,8 @@ def two_grid(
 
     Fs = 3 (the order is not verified by a third grid). No extrapolated value and no error:
     two grids cannot tell whether they are in the asymptotic range; status ``two-grid``
-    (``mesh-independent`` if the two agree to round-off)."""
+    (``mesh-independent`` if the two agree to round-off, ``zero`` if both are below
+    ``zero_scale``)."""
     if len(h) != 2 or len(f) != 2:
         raise ValueError(f"two_grid needs two grids, got {len(h)} sizes and {len(f)} values")
     if not all(math.isfinite(v) for v in (*h, *f)) or min(h) <= 0.0 or h[0] == h[1]:
@@ -237,6 +243,9 @@ def two_grid(
     r = h[coarse] / h[fine]
     e21 = f[coarse] - f[fine]
     big = max(abs(v) for v in f)
+    if big <= zero_scale:
+        return Richardson("zero", None, None, (None, None), (None, None), (abs(e21),) * 2, None,
+                          "below the zero scale on both grids: round-off")  # fmt: skip
     if abs(e21) <= SAME_RTOL * big:
         return Richardson("mesh-independent", None, None, (None, None), (0.0, 0.0), (0.0, 0.0),
                           None, "the same value on both grids")  # fmt: skip

@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter, FuncFormatter, NullFormatter, PercentFormatter
 
-from postprocess.convergence import SAFETY_TWO_GRID
+from postprocess.convergence import NEAR_ZERO, SAFETY_TWO_GRID
 from postprocess.convergence_study import CG_NOISE, P_CAP
 from postprocess.run_scalars import run_label
 
@@ -262,7 +262,11 @@ def write_report(conv: dict, folder: Path) -> Path:
         "convergence_study.py); error = (value - extrapolated) / "
         "|extrapolated|; U = the GCI uncertainty of that run (relative). Where convergence is "
         "not monotone (oscillatory, stagnant, divergent) there is no extrapolation and U is "
-        f"the spread of the levels. A root stress read on a CG submodel has a noise floor of "
+        f"the spread of the levels; `zero`: every level below {NEAR_ZERO:.1%} of the largest "
+        "scalar of "
+        "its kind and unit (the round-off of a quantity that vanishes, such as Mz of a "
+        "pinion free to spin), no extrapolation and no U. "
+        f"A root stress read on a CG submodel has a noise floor of "
         f"{CG_NOISE:.1%}: a change between levels within it has no sign, so it counts as "
         "stagnant (the finer pair) or divergent (the coarser pair).",
         "",

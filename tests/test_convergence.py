@@ -312,3 +312,18 @@ def test_two_grid_gci_is_roache_with_the_assumed_order():
     assert cv.two_grid(h, [5.0, 5.0], 1.0).status == "mesh-independent"
     with pytest.raises(ValueError, match="two sizes"):
         cv.two_grid([1.0, 1.0], [1.0, 2.0], 1.0)
+
+
+def test_round_off_of_a_vanishing_quantity_is_zero_not_converged():
+    # 1-GB's record had Mz_pin -2.9e-13 / -5.8e-14 / 0 N m (a pinion free to spin) as
+    # "monotone, order 4.12, extrapolated 1.1e-14": round-off read as convergence
+    f = [-2.9103830456733704e-13, -5.820766091346741e-14, 0.0]
+    res = cv.richardson([1.0, 0.7, 0.45], f, zero_scale=0.216)  # 1e-3 of My_pin's 216 N m
+    assert res.status == "zero"
+    assert res.extrapolated is None and res.order is None
+    assert res.uncertainty == (None, None, None)
+    assert cv.richardson([1.0, 0.7, 0.45], f).status == "monotone"  # without a zero scale
+    two = cv.two_grid([1.0, 0.7], f[:2], order=2.0, zero_scale=0.216)
+    assert two.status == "zero" and two.uncertainty == (None, None)
+    # one value above the scale: a real (small) quantity, converged as any other
+    assert cv.richardson([1.0, 0.7, 0.45], [0.5, 0.3, 0.25], zero_scale=0.216).status != "zero"
