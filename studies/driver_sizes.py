@@ -42,13 +42,15 @@ from mpi4py import MPI
 
 from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, Level
+from postprocess.paper_moments import LOA_ALIASES
 from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, read_json, write_json
 from studies.position import solve_position
 
 #: the sector every variant is read on (the default level's: 0.15 mm read fillets)
 READ_LEVEL = 1
-MOMENTS = ("Mx_pin", "My_pin", "M_LOA_sun", "M_LOA_ring")
+#: the paper's moments of any case: bearing tilt moments and LOA moments (N m)
+MOMENT_PREFIXES = ("Mx_", "My_", "M_LOA_")
 VARIANTS = ("base", "grid", "flank", "flank+grid", "tooth", "fillet_far", "fillet", "body", "next")
 
 
@@ -83,7 +85,8 @@ def solve_variant(study, name: str, level: int, roll: float, comm) -> dict:
                       "fillet_far": sizes.fillet_far, "coarse": sizes.coarse,
                       "per_circle": sizes.per_circle, "grid": spacing},
             "read_fillet_mm": float(next(iter(read))),
-            "moments": {k: out.get(k) for k in MOMENTS},
+            "moments": {k: v for k, v in out.items() if k.startswith(MOMENT_PREFIXES)
+                        and k not in LOA_ALIASES and isinstance(v, float)},
             "surface": {k: bs[k] for k in keys},
             "tangent": {k: bs["tangent"][k] for k in keys}}  # fmt: skip
 
@@ -107,7 +110,7 @@ def report(data: dict) -> str:
     nxt = rows.get("next")
     if base is None:
         return "\n".join([*lines, "base not solved yet."]) + "\n"
-    cols = [("moments", k) for k in MOMENTS if base["moments"].get(k) is not None]
+    cols = [("moments", k) for k in base["moments"]]
     cols += [("surface", k) for k in base["surface"]]
     cols += [("tangent", k) for k in base["tangent"] if base["tangent"][k] is not None]
     head = [f"{k} ({'N m' if g == 'moments' else 'MPa, ' + g})" for g, k in cols]

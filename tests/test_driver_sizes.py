@@ -71,3 +71,23 @@ def test_bad_input_names_the_option(kw, field, tmp_path: Path):
                               "variants": ["base"], "out": tmp_path, **kw})  # fmt: skip
     with pytest.raises(InputError, match=field):
         run(args)
+
+
+def test_a_variant_row_holds_the_paper_moments_and_the_read_stresses(monkeypatch):
+    import studies.driver_sizes as ds
+
+    seen = {}
+
+    def fake_solve(study, roll, comm, **kw):  # what solve_position returns, reduced
+        seen.update(kw)
+        bs = {"sun": 870.0, "tangent": {"sun": 820.0}, "locations": {"sun": {}}}
+        return {"dofs": 5, "Mx_SP": 1.0, "M_LOA_sun_SP": 2.0, "M_LOA_SP_SUN": 2.0,
+                "Mz_SP": 1e-13, "ZS": 0.1, "bending_stress_fillets": {"0.15": bs}}  # fmt: skip
+
+    monkeypatch.setattr(ds, "solve_position", fake_solve)
+    row = ds.solve_variant(None, "fillet", 0, 0.0, None)
+    assert seen["level"] == variant_mesh("fillet", 0)[0] and seen["submodel_levels"] == (1,)
+    # the LOA alias and Mz (zero by physics) are left out, so is the offset ZS
+    assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
+    assert row["surface"] == {"sun": 870.0} and row["tangent"] == {"sun": 820.0}
+    assert row["read_fillet_mm"] == 0.15 and row["sizes"]["fillet"] == LEVELS[1].fillet
