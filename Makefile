@@ -151,7 +151,8 @@ fillet-study: $(STAMP) ## root stress against fillet size: results/fillet/<case>
 
 # Where a level's root-stress driver error comes from: the global mesh of level DRIVER_LEVEL
 # with one size at a time set to the next level's, every root stress read on the level-1
-# sector (one process; about 7 min per variant at level 0, 15-25 min at level 1, up to 16 GB).
+# sector (one process; 1-GB: 436 s and 7.2 GB peak per variant at level 0, 356 s of it the
+# four 0.15 mm read sectors; the level-1 variants took 15-16 min beside another run).
 DRIVER_LEVEL ?= 0
 .PHONY: driver-sizes
 driver-sizes: $(STAMP) ## which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>.{json,md}

@@ -41,8 +41,9 @@ def test_next_is_the_next_level():
 
 
 def _row(name, m, s):
-    return {"variant": name, "dofs": 10, "moments": {"My_pin": m},
-            "surface": {"ring": s}, "tangent": {"ring": None}}  # fmt: skip
+    return {"variant": name, "dofs": 10, "wall_s": 60.0, "peak_rss_mb": 2048.0,
+            "moments": {"My_pin": m}, "surface": {"ring": s},
+            "tangent": {"ring": None}}  # fmt: skip
 
 
 def test_report_gives_change_and_share_of_the_step():
@@ -51,15 +52,15 @@ def test_report_gives_change_and_share_of_the_step():
                          _row("next", 202.0, 680.0)]}  # fmt: skip
     text = report(data)
     # fillet: +1 N m of the step's +2 (50 %), -18 MPa of -20 (90 %)
-    assert "| fillet | 10 | 201 (+1, 50%) | 682 (-18, 90%) |" in text
-    assert "| next | 10 | 202 (+2) | 680 (-20) |" in text
+    assert "| fillet | 10 | 60 | 2.0 | 201 (+1, 50%) | 682 (-18, 90%) |" in text
+    assert "| next | 10 | 60 | 2.0 | 202 (+2) | 680 (-20) |" in text
     assert "ring (MPa, tangent)" not in text  # a key without an ISO line has no column
 
 
 def test_report_without_next_gives_no_share():
     data = {"case": "X", "level": 0, "roll": 0.0, "read_fillet_mm": 0.15,
             "variants": [_row("base", 200.0, 700.0), _row("grid", 199.0, 703.0)]}  # fmt: skip
-    assert "| grid | 10 | 199 (-1) | 703 (+3) |" in report(data)
+    assert "| grid | 10 | 60 | 2.0 | 199 (-1) | 703 (+3) |" in report(data)
 
 
 @pytest.mark.parametrize(
@@ -86,8 +87,39 @@ def test_a_variant_row_holds_the_paper_moments_and_the_read_stresses(monkeypatch
 
     monkeypatch.setattr(ds, "solve_position", fake_solve)
     row = ds.solve_variant(None, "fillet", 0, 0.0, None)
+    assert row["peak_rss_mb"] > 0.0
     assert seen["level"] == variant_mesh("fillet", 0)[0] and seen["submodel_levels"] == (1,)
     # the LOA alias and Mz (zero by physics) are left out, so is the offset ZS
     assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
     assert row["surface"] == {"sun": 870.0} and row["tangent"] == {"sun": 820.0}
     assert row["read_fillet_mm"] == 0.15 and row["sizes"]["fillet"] == LEVELS[1].fillet
+
+
+def test_a_variant_missing_a_value_prints_a_dash():
+    gone = _row("tooth", 200.5, 700.0)
+    gone["surface"] = {}
+    data = {"case": "X", "level": 0, "roll": 0.0, "read_fillet_mm": 0.15,
+            "variants": [_row("base", 200.0, 700.0), gone]}  # fmt: skip
+    assert "| tooth | 10 | 60 | 2.0 | 200.5 (+0.5) | - |" in report(data)
+
+
+def test_finished_variants_are_kept_only_for_the_same_inputs_and_code(monkeypatch, tmp_path):
+    import studies.driver_sizes as ds
+
+    solved = []
+
+    def fake_variant(study, name, level, roll, comm, log=None):
+        solved.append(name)
+        return {**_row(name, 200.0, 700.0), "read_fillet_mm": 0.15}
+
+    monkeypatch.setattr(ds, "solve_variant", fake_variant)
+    args = SimpleNamespace(case="1-GB", level=0, roll=0.0, variants=["base", "grid"],
+                           out=tmp_path)  # fmt: skip
+    path = ds.run(args)
+    assert solved == ["base", "grid"]
+    ds.run(args)  # the same inputs and code: nothing solved again
+    assert solved == ["base", "grid"]
+    monkeypatch.setattr(ds, "code_hash", lambda: "other")  # another code: solved afresh
+    ds.run(args)
+    assert solved == ["base", "grid"] * 2
+    assert [r["variant"] for r in ds.read_json(path)["variants"]] == ["base", "grid"]
