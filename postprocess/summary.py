@@ -85,8 +85,9 @@ def cycle_set(cycle: dict, gears) -> dict:
     return out
 
 
-def position_record(study, pos: dict) -> dict:
-    """What summary.json keeps of one position (scalars, per-mesh contact stress)."""
+def position_record(study, pos: dict, index: int) -> dict:
+    """What summary.json keeps of one position (scalars, per-mesh contact stress);
+    ``index``: the position's index in the mesh cycle (0-based, as ``failed_positions``)."""
     hz = contact_stress_at_points(study.gearset, study.material, pos)
     edges = edge_points(study.gearset, pos)
     rec = {k: pos[k] for k in MEAN_KEYS[study.gearset.kind]}
@@ -94,6 +95,7 @@ def position_record(study, pos: dict) -> dict:
     loaded = {m: v["station_p_max"][v["station_p_max"] > 0] for m, v in hz.items()}
     interior = {m: v["p_max"][~edges[m]["edge"]] for m, v in hz.items()}
     rec.update(
+        position=index,
         roll=pos["roll"],
         contact_stress_mean_loaded={
             mesh_key(m): float(v.mean()) if v.size else 0.0 for m, v in loaded.items()
@@ -160,7 +162,7 @@ def cycle_bending(records: list[dict]) -> dict:
             at[k] = None
             continue
         loc = (records[j]["bending_stress"].get("locations") or {}).get(k) or {}
-        at[k] = {"position": j, "roll": records[j].get("roll")}
+        at[k] = {"position": records[j]["position"], "roll": records[j].get("roll")}
         at[k].update({q: loc.get(q) for q in ("tooth", "side", "z_mm")})
     out["bending_stress_at"] = at
     locs = recs[0][1]["bending_stress"].get("locations") or {}
@@ -273,7 +275,10 @@ def _system_means(study, solved: list[dict]) -> dict:
 def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
     """The summary of a study's positions; ``meta``: level, degree, inputs, provenance,
     wall time (copied in as they are)."""
-    records = [position_record(study, p) for p in solved]
+    if failed and any("position" not in p for p in solved):
+        raise ValueError("summarise: with failed positions every solved one must carry its "
+                         "index in the mesh cycle ('position')")
+    records = [position_record(study, p, p.get("position", j)) for j, p in enumerate(solved)]
     summary: dict = {"case": study.name, "description": study.description, **meta}
     if records:
         for k in MEAN_KEYS[study.gearset.kind]:

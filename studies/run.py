@@ -254,6 +254,7 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
         pos = old[k]
         if pos is not None:
             pos["reused"] = True
+            pos["position"] = k  # its index in the mesh cycle (solved may skip failed ones)
             solved.append(pos)
             clock.step()
             wall = pos["timings"].get("wall", float("nan"))
@@ -289,6 +290,7 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
             progress.warn(f"{tag} failed: {message}")
             continue
         pos["reuse_key"] = keys[k]
+        pos["position"] = k
         path = pos_dir / f"{k}.json"
         on_root(comm, lambda path=path, pos=pos: write_json(path, pos), f"writing {path}")
         solved.append(pos)

@@ -189,7 +189,7 @@ def test_summary_keeps_the_old_keys(cycle):
     # position 0) and adds the interior peak (W_BASE's largest Hertz p there).
     study, positions, _ = cycle
     scalars = dict.fromkeys(MEAN_KEYS[study.gearset.kind], 0.0)
-    rec = position_record(study, {**positions[0], **scalars, "timings": {"wall": 0.0}})
+    rec = position_record(study, {**positions[0], **scalars, "timings": {"wall": 0.0}}, 0)
     res = contact_stress_cycle(study.gearset, study.material, positions[:1])
     assert rec["contact_stress"]["sun_pinion"] == pytest.approx(
         res["sun-pinion"]["edge_p_max_MPa"], rel=1e-12

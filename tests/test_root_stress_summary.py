@@ -10,25 +10,27 @@ from postprocess.summary import cycle_bending
 from solvers.root_submodel import most_loaded, read_for
 
 
-def _pos(roll, sun, ring, tan, cell, set_keys=None):
+def _pos(roll, sun, ring, tan, cell, set_keys=None, position=0):
     keys = {"sun": "sun", "ring": "ring"} if set_keys is None else set_keys
     names = list(keys)
     locs = {k: {"tooth": 3, "side": "pos", "z_mm": 1.5 * roll, "set_key": keys[k]} for k in names}
     bs = {names[0]: sun, names[1]: ring, "tangent": dict(zip(names, tan, strict=True)),
           "cell_max": dict(zip(names, cell, strict=True)), "locations": locs}  # fmt: skip
-    return {"roll": roll, "bending_stress": {**bs, "method": "x"}}
+    return {"position": position, "roll": roll, "bending_stress": {**bs, "method": "x"}}
 
 
 def test_maximum_over_the_cycle_and_where():
-    recs = [_pos(0.0, 500.0, None, (480.0, None), (400.0, None)),
-            _pos(0.1, 520.0, 300.0, (470.0, 290.0), (410.0, 250.0)),
-            _pos(0.2, 510.0, 310.0, (490.0, 280.0), (390.0, 260.0))]  # fmt: skip
+    # positions 0, 2 and 3 of the cycle finished (1 failed): "position" is the cycle's index,
+    # not the index among the finished ones
+    recs = [_pos(0.0, 500.0, None, (480.0, None), (400.0, None), position=0),
+            _pos(0.1, 520.0, 300.0, (470.0, 290.0), (410.0, 250.0), position=2),
+            _pos(0.2, 510.0, 310.0, (490.0, 280.0), (390.0, 260.0), position=3)]  # fmt: skip
     out = cycle_bending(recs)
     assert out["bending_stress"] == {"sun": 520.0, "ring": 310.0}  # not the mean
     assert out["bending_stress_tangent"] == {"sun": 490.0, "ring": 290.0}
     assert out["bending_stress_cell"] == {"sun": 410.0, "ring": 260.0}
-    assert out["bending_stress_at"]["sun"]["position"] == 1
-    want = {"position": 2, "roll": 0.2, "tooth": 3, "side": "pos", "z_mm": pytest.approx(0.3)}
+    assert out["bending_stress_at"]["sun"]["position"] == 2
+    want = {"position": 3, "roll": 0.2, "tooth": 3, "side": "pos", "z_mm": pytest.approx(0.3)}
     assert out["bending_stress_at"]["ring"] == want
     assert "bending_stress_set" not in out  # one branch: the keys are the gear set's
     assert cycle_bending([{"roll": 0.0}])["bending_stress"] is None

@@ -162,6 +162,31 @@ def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     assert "active set did not converge (test)" in text and "over the 1 that finished" in text
 
 
+def test_a_failed_first_position_leaves_the_others_named_by_their_cycle_index(
+    study, monkeypatch, tmp_path
+):
+    """With position 1 of 2 lost, the finished one is the cycle's second: the summary names
+    it so (its record and where the root stress peaks), not by its place among the finished
+    ones (it said position 0, the failed one, until 2026-11-29)."""
+    out, summary = study
+    (tmp_path / "1-GA" / "positions").mkdir(parents=True)
+    second = out / "1-GA" / "positions" / "1.json"
+    (tmp_path / "1-GA" / "positions" / "1.json").write_text(second.read_text())
+
+    def fail(*args, **kwargs):
+        raise RuntimeError("active set did not converge (test)")
+
+    monkeypatch.setattr(study_run, "solve_position", fail)
+    with pytest.raises(RuntimeError, match="1 of 2 positions failed"):
+        study_run.run_study("1-GA", tmp_path, level=0, positions=N_POS)
+    kept = json.loads((tmp_path / "1-GA" / "summary.json").read_text())
+    assert [p["position"] for p in kept["positions"]] == [1]
+    assert kept["positions"][0]["roll"] == summary["positions"][1]["roll"]
+    assert [f["position"] for f in kept["failed_positions"]] == [0]
+    at = [a for a in (kept["bending_stress_at"] or {}).values() if a]
+    assert at and all(a["position"] == 1 for a in at)
+
+
 def test_case1_report(study):
     from postprocess.case1_report import write_report
 
