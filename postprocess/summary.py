@@ -276,8 +276,10 @@ def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
     """The summary of a study's positions; ``meta``: level, degree, inputs, provenance,
     wall time (copied in as they are)."""
     if failed and any("position" not in p for p in solved):
-        raise ValueError("summarise: with failed positions every solved one must carry its "
-                         "index in the mesh cycle ('position')")
+        raise ValueError(
+            "summarise: with failed positions every solved one must carry its "
+            "index in the mesh cycle ('position')"
+        )
     records = [position_record(study, p, p.get("position", j)) for j, p in enumerate(solved)]
     summary: dict = {"case": study.name, "description": study.description, **meta}
     if records:
