@@ -295,6 +295,54 @@ def off_ladder(
     }
 
 
+def compare_runs(recorded: Mapping, again: Mapping) -> dict:
+    """A run solved again against its record (``python -m studies.convergence CASE
+    --reproduce L``): every scalar of the rows' ``scalars`` and ``fillet_scalars`` (keyed
+    ``<fillet> mm:<key>``) compared. ``scalars``: how many both rows hold; ``identical``: how
+    many are the same float (to the bit); ``max_rel_diff``: the largest |b - a| / |a| over
+    the others (|b - a| where a is 0), None when all are identical; ``worst``: its key;
+    ``missing``: keys one row holds and the other does not (a changed reading, not a
+    reproduction)."""
+
+    def flat(row: Mapping) -> dict[str, float | None]:
+        out = dict(row.get("scalars") or {})
+        for fillet, vals in (row.get("fillet_scalars") or {}).items():
+            out.update({f"{fillet} mm:{k}": v for k, v in vals.items()})
+        return out
+
+    a, b = flat(recorded), flat(again)
+    both = sorted(a.keys() & b.keys())
+    same, worst, rel = 0, None, None
+    for k in both:
+        x, y = a[k], b[k]
+        if x == y or (x is None and y is None):
+            same += 1
+            continue
+        if x is None or y is None:
+            d = math.inf
+        else:
+            d = abs(y - x) / abs(x) if x else abs(y - x)
+        if rel is None or d > rel:
+            rel, worst = d, k
+    return {"scalars": len(both), "identical": same, "max_rel_diff": rel, "worst": worst,
+            "missing": sorted(a.keys() ^ b.keys())}  # fmt: skip
+
+
+def reproduction_text(entry: Mapping) -> str:
+    """A record's reproduction (:func:`compare_runs` with its run, date and code) in words."""
+    n, same = entry.get("scalars", 0), entry.get("identical", 0)
+    if entry.get("error"):
+        how = f"failed ({entry['error']})"
+    elif same == n and not entry.get("missing"):
+        how = f"every one of its {n} scalars the same to the bit"
+    else:
+        how = (f"{same} of {n} scalars the same to the bit, the others within "
+               f"{entry.get('max_rel_diff') or 0:.1e} (largest: {entry.get('worst')})")  # fmt: skip
+        if entry.get("missing"):
+            how += f", {len(entry['missing'])} scalar(s) in one run only"
+    return f"its run {entry.get('run')} solved again by today's code on {entry.get('date')}: {how}"
+
+
 # ------------------------------------------------------------------ summaries and reports
 def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dict:
     """The ``uncertainty`` entries of a summary solved at ``level``/``degree`` from a
@@ -353,6 +401,8 @@ def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
                 two += f", recorded {rec.get('date', '?')} on commit {commit}"
             if src.get("code_changed"):
                 two += "; solved by other code than today's"
+                if src.get("reproduced"):
+                    two += f" ({reproduction_text(src['reproduced'])})"
             label = f"{src['convergence_study']} ({src.get('run')}{two})"
             by_study.setdefault(label, []).append(name)
         else:

@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter, FuncFormatter, NullFormatter, PercentFormatter
 
-from postprocess.convergence import NEAR_ZERO, SAFETY_TWO_GRID
+from postprocess.convergence import NEAR_ZERO, SAFETY_TWO_GRID, reproduction_text
 from postprocess.convergence_study import CG_NOISE, P_CAP
 from postprocess.run_scalars import run_label
 
@@ -228,6 +228,19 @@ def _runs_code(conv: dict) -> list[str]:
     ]
 
 
+def _reproductions(conv: dict) -> list[str]:
+    """The record's runs solved again by later code (``python -m studies.convergence CASE
+    --reproduce L``), one line each."""
+    again = conv.get("reproduced") or []
+    if not again:
+        return []
+    lines = ["Solved again by later code (`--reproduce`):", ""]
+    for e in again:
+        lines.append(f"- code {e.get('code_hash')} (commit {str(e.get('git_revision'))[:10]}): "
+                     f"{reproduction_text(e)}")  # fmt: skip
+    return [*lines, ""]
+
+
 def _missing_scalars(conv: dict) -> list[str]:
     """The scalars some finished ladder runs hold and others do not (a stress read that
     failed, a grid without contact; 2B-GA's record: the ring's near-load value, not a target,
@@ -280,6 +293,7 @@ def write_report(conv: dict, folder: Path) -> Path:
         ]
     lines += _h_measure(conv)
     lines += _runs_code(conv)
+    lines += _reproductions(conv)
     lines += ["## Runs", "", *_runs_table(conv), ""]
     if not conv["scalars"]:
         lines += ["No scalar table: fewer than one finished ladder run.", ""]

@@ -5,6 +5,7 @@ use, a speed-against-error chart.
     python -m studies.convergence 1-GB [--levels 0 1 2] [--extra 0:2 ...] [--positions 1]
         [--out results/convergence] [--min-free-gb 16] [--no-reuse] [--split-root-stress]
         [--reduce-only] [--out-of-core 2 0:2] [--record] [--unless-recorded]
+    python -m studies.convergence 1-GB --reproduce 0
 
 Every (level, degree) run solves the case's first ``--positions`` mesh positions (equally
 spaced over one base pitch, as ``studies.run``) in a fresh child process
@@ -36,6 +37,9 @@ report), and the report names the code the runs came from.
 it was solved with, report.md, the chart) to ``studies/records/convergence/<case>/``, where
 summaries find it when ``<out>`` has none (:mod:`studies.uncertainty`); ``--unless-recorded``
 runs nothing when a record of the same match key and ladder exists (the main ``make``).
+``--reproduce L`` solves a record's level-L run again by today's code and adds the comparison
+of every scalar to the record (:func:`reproduce`): the cheap evidence that a record solved by
+other code still stands (a level-0 run: 2-15 min, against hours for the ladder).
 
 Writes ``<out>/<case>/convergence.json`` (:mod:`postprocess.convergence_study`: per scalar
 the values, status, observed order, extrapolated value, error and uncertainty of every run;
@@ -58,6 +62,7 @@ from pathlib import Path
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
 from meshing import sizing
 from meshing.submodel import submodel_level
+from postprocess.convergence import compare_runs, reproduction_text
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import reduce_study
 from postprocess.run_scalars import run_label
@@ -285,6 +290,60 @@ def reduce_records(records: Path = RECORDS) -> list[Path]:
     return done
 
 
+def reproduce(args) -> dict:
+    """Solve the recorded run at level ``args.reproduce`` again by today's code, as the
+    record solved it (its positions, submodel readings, out of core or not), compare every
+    scalar (:func:`postprocess.convergence.compare_runs`) and add the comparison to the
+    record's ``reproduced`` list (one entry per run and source hash, the latest kept). A
+    record solved by other code stands for today's only as far as this shows: summaries
+    quote it beside the record's ± (:mod:`studies.uncertainty`). The run is kept under
+    ``<out>/<case>/runs`` and reused by the next full study of the same code."""
+    case = load_study_case(args.case)
+    path = Path(args.records) / case.name / STUDY_FILE
+    if not path.is_file():
+        raise InputError(f"--reproduce: no record of {case.name} in {args.records}")
+    rec = read_json(path)
+    if rec.get("match") != match_key(case):
+        raise InputError(
+            f"--reproduce: the record {path} is of another gear set, scene or numerics than "
+            f"{case.name}'s: nothing to reproduce (record it again)"
+        )
+    label = run_label(args.reproduce, LADDER_DEGREE)
+    old = next((r for r in rec.get("runs", []) if r.get("label") == label), None)
+    if old is None or "error" in old:
+        have = ", ".join(r.get("label", "?") for r in rec.get("runs", []) if "error" not in r)
+        raise InputError(f"--reproduce {args.reproduce}: the record has no finished run "
+                         f"{label} (it has {have})")  # fmt: skip
+    if old["reuse_key"].get("inputs_hash") != inputs_hash(case):
+        raise InputError(
+            f"--reproduce: {case.name}'s inputs changed since the record (its inputs hash "
+            f"{old['reuse_key'].get('inputs_hash', '?')[:12]}, today's "
+            f"{inputs_hash(case)[:12]}): record it again"
+        )
+    lad = rec["ladder"]
+    args.positions, args.split_root_stress = lad["positions"], lad["split_root_stress"]
+    ooc = bool(old["reuse_key"].get("out_of_core"))
+    args.ooc_runs = {(args.reproduce, LADDER_DEGREE)} if ooc else set()
+    args.reduce_only = False
+    folder = args.out / case.name
+    (folder / "runs").mkdir(parents=True, exist_ok=True)
+    row = _one_run(args, case, args.reproduce, LADDER_DEGREE, folder)
+    _say(row)
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    entry = {"run": label, "code_hash": code_hash(), "git_revision": git_revision(), "date": now}
+    if "error" in row:
+        entry.update(error=row["error"], scalars=0, identical=0)
+    else:
+        entry.update(compare_runs(old, row))
+    keep = [e for e in rec.get("reproduced") or []
+            if (e.get("run"), e.get("code_hash")) != (label, entry["code_hash"])]  # fmt: skip
+    rec["reproduced"] = [*keep, entry]
+    write_json(path, rec)
+    write_report(rec, path.parent)
+    print(f"{case.name}: {reproduction_text(entry)}; written to {path}", flush=True)
+    return entry
+
+
 def study(args) -> Path | None:
     """Run (or reuse) every run, then write convergence.json, the chart and the report
     (and the record, ``--record``); nothing with ``--unless-recorded`` and a record."""
@@ -428,6 +487,13 @@ def main(argv=None) -> int:
         help="solve nothing: reduce every recorded study again by today's code (after a change "
         "to the reductions; the records' runs stay)",
     )
+    ap.add_argument(
+        "--reproduce",
+        type=int,
+        metavar="L",
+        help="solve the record's level-L run again by today's code (as recorded) and add "
+        "the comparison of every scalar to the record (a record solved by other code)",
+    )
     ap.add_argument("--records", type=Path, default=RECORDS, help=argparse.SUPPRESS)
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
     ap.add_argument("--out-of-core-run", action="store_true", help=argparse.SUPPRESS)
@@ -458,6 +524,8 @@ def main(argv=None) -> int:
         return guarded(reduce_and_say)
     if not args.case:
         ap.error("give the case: python -m studies.convergence 1-GB")
+    if args.reproduce is not None:
+        return guarded(lambda: reproduce(args), traceback=args.traceback)
     return guarded(lambda: study(args), traceback=args.traceback)
 
 

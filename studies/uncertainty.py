@@ -32,7 +32,7 @@ import json
 from pathlib import Path
 
 from cases.study_case import StudyCase, study_inputs
-from postprocess.convergence import uncertainty_for
+from postprocess.convergence import reproduction_text, uncertainty_for
 from postprocess.convergence_study import reduce_study
 from postprocess.run_scalars import run_label
 from studies.files import ResultFileError, read_json
@@ -116,6 +116,13 @@ def solved_with(conv: dict) -> list[str]:
     return sorted(set(conv.get("runs_code_hash") or [conv.get("code_hash")]))
 
 
+def reproduced_by(conv: dict, source: str) -> dict | None:
+    """The latest of a study's ``reproduced`` entries (a run solved again,
+    ``python -m studies.convergence CASE --reproduce L``) by the code of hash ``source``."""
+    mine = [e for e in conv.get("reproduced") or [] if e.get("code_hash") == source]
+    return mine[-1] if mine else None
+
+
 def summary_uncertainty(
     study: StudyCase, level: int, degree: int, results: Path, records: Path | None = RECORDS
 ) -> dict:
@@ -158,6 +165,10 @@ def _from_studies(study, level, degree, folder, key, found) -> dict:
                 f"today {now[0]}): make convergence-main RECORD=1 (or make convergence) "
                 "solves the ladder again"
             )
+            again = reproduced_by(conv, now[0])
+            if again is not None:
+                src["reproduced"] = again
+                src["note"] += f"; {reproduction_text(again)}"
         return out
     return {
         "uncertainty": None,

@@ -11,7 +11,7 @@ import pytest
 from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, with_fillet
 from postprocess.convergence_report import speed_error_chart, write_report
-from postprocess.convergence_study import recommend, scalar_table, target
+from postprocess.convergence_study import recommend, reduce_study, scalar_table, target
 from studies.case_variants import coarse_root_fillets, global_root_stress
 from studies.files import read_json, write_json
 from studies.uncertainty import (
@@ -829,3 +829,90 @@ def test_a_two_level_study_assumes_the_formal_order_of_where_a_stress_is_read():
     table = scalar_table(rows)
     assert table["bending_stress_face_end.sun"]["gci_order"] == 2.0
     assert table[sigma_h]["gci_order"] == 1.0
+
+
+def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
+    from postprocess.convergence import compare_runs, reproduction_text
+
+    a = {"scalars": {"My_pin": 40.0, "Mz": 0.0, "s": None},
+         "fillet_scalars": {"0.15": {"bending_stress.sun": 700.0}}}  # fmt: skip
+    same = compare_runs(a, a)
+    assert same == {"scalars": 4, "identical": 4, "max_rel_diff": None, "worst": None,
+                    "missing": []}  # fmt: skip
+    assert "every one of its 4 scalars the same to the bit" in reproduction_text(
+        {"run": "L0P1", "date": "d", **same}
+    )
+    b = {"scalars": {"My_pin": 40.0 * (1 + 3e-11), "Mz": 1e-13, "t": 1.0},
+         "fillet_scalars": {"0.15": {"bending_stress.sun": 707.0}}}  # fmt: skip
+    got = compare_runs(a, b)
+    assert got["scalars"] == 3 and got["identical"] == 0  # "s" and "t" in one run only
+    assert got["worst"] == "0.15 mm:bending_stress.sun"
+    assert got["max_rel_diff"] == pytest.approx(0.01)
+    assert got["missing"] == ["s", "t"]
+    text = reproduction_text({"run": "L0P1", "date": "d", **got})
+    assert "0 of 3 scalars the same to the bit, the others within 1.0e-02" in text
+    assert "2 scalar(s) in one run only" in text
+
+
+def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
+    tmp_path, monkeypatch, capsys
+):
+    """--reproduce L solves the record's level-L run again as recorded (positions, submodel
+    readings), adds the comparison of every scalar to the record, and a summary whose ± come
+    from that record (solved by other code) quotes it; a changed scalar is counted, not
+    hidden; a record of other inputs or without the run is refused."""
+    import shutil
+
+    import studies.convergence as conv_mod
+    from postprocess.convergence import uncertainty_note
+    from studies.convergence import main
+
+    case = load_study_case("1-GB")
+    records, out = tmp_path / "records", tmp_path / "out"
+    folder = tmp_path / "study"
+    _stored_runs(folder, case, "1" * 16)
+    runs = [read_json(folder / "runs" / f"{r['label']}.json") for r in ROWS[:3]]
+    ladder = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
+    conv = {"case": "1-GB", "match": match_key(case), "labels": ["L0P1", "L1P1", "L2P1"],
+            "positions": 1, "code_hash": "1" * 16, "runs_code_hash": ["1" * 16],
+            "ladder": ladder, "runs": runs, "case_level": 1, "ladder_degree": 1,
+            "description": "normal bearing", "positions_note": "one position",
+            "skipped": [], "machine": {"cpus": 2}}  # fmt: skip
+    conv = reduce_study(conv)
+    conv_mod.record(folder, conv, records)
+    asked = []
+
+    def child(args, study, level, degree, where):
+        asked.append((level, degree, args.positions, args.split_root_stress, args.ooc_runs))
+        row = dict(runs[level])
+        if len(asked) > 1:  # the second time one scalar moves
+            row["scalars"] = {**row["scalars"], "My_pin": row["scalars"]["My_pin"] * 1.001}
+        return row
+
+    monkeypatch.setattr(conv_mod, "_one_run", child)
+    argv = ["1-GB", "--reproduce", "0", "--records", str(records), "--out", str(out)]
+    assert main(argv) == 0
+    assert asked == [(0, 1, 1, True, set())]
+    rec = read_json(records / "1-GB" / STUDY_FILE)
+    (entry,) = rec["reproduced"]
+    assert entry["run"] == "L0P1" and entry["identical"] == entry["scalars"] == 7
+    assert "Solved again by later code" in (records / "1-GB" / "report.md").read_text()
+    got = summary_uncertainty(case, 1, 1, tmp_path / "results", records=records)
+    src = got["uncertainty_source"]
+    assert src["code_changed"] is True and src["reproduced"] == entry
+    assert "its run L0P1 solved again by today's code" in src["note"]
+    assert "every one of its 7 scalars the same to the bit" in uncertainty_note({"1-GB": got})
+    # again by the same code: the entry is replaced, and a moved scalar is counted
+    assert main(argv) == 0
+    (entry,) = read_json(records / "1-GB" / STUDY_FILE)["reproduced"]
+    assert entry["identical"] == 6 and entry["worst"] == "My_pin"
+    assert entry["max_rel_diff"] == pytest.approx(1e-3)
+    # refused: a level the record has not, another case's inputs
+    assert main(["1-GB", "--reproduce", "3", "--records", str(records), "--out", str(out)]) == 2
+    assert main(["1-GC", "--reproduce", "0", "--records", str(records), "--out", str(out)]) == 2
+    assert "no record of 1-GC" in capsys.readouterr().err
+    # 1-GC shares 1-GB's gear set, scene and numerics (the match key), not its bearing
+    shutil.copytree(records / "1-GB", records / "1-GC")
+    assert main(["1-GC", "--reproduce", "0", "--records", str(records), "--out", str(out)]) == 2
+    assert "1-GC's inputs changed since the record" in capsys.readouterr().err
+    assert len(asked) == 2
