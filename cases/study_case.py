@@ -101,7 +101,9 @@ class Numerics:
 
     degree: int = 1  # Lagrange element degree of the displacement, one of DEGREES
     # Contact penalty relative to the body stiffness (eps = factor E* / h), PENALTY_FACTOR_RANGE;
-    # used by the "line" contact model (the "zone" model's contact is exact: no penalty).
+    # used by the "line" contact model. The "zone" model's contact is exact (no penalty) except
+    # on a coast view its grid finds no cell on, which keeps its contact-line grid with this
+    # penalty and says so (solvers.flank_grid.contact_grids, FlankGridInfo.fallback).
     penalty_factor: float = 100.0
     # Contact grid point spacing along the contact line, mm, in GRID_SPACING_RANGE;
     # None: the flank element size of the mesh level.
