@@ -74,7 +74,12 @@ from solvers.root_stress import (
 )
 
 #: solvers of the submodel: "cg-gamg" (CG + smoothed-aggregation AMG, no factor in memory;
-#: the default) or "mumps" (exact LU, the reference it is tested against)
+#: the default) or "mumps" (exact LU, the reference it is tested against). Why not an LU
+#: factorized once and reused over a study's positions: one level-1 sector's factorization
+#: (1-GB sun, 796k P2 DOFs, 2026-11-29) took the process from 12 GB to over 24 GB and was
+#: killed. Other smoothers on that sector (one process, the same right-hand side, CG 6.4 s /
+#: set-up 14.6 s with the default Chebyshev-Jacobi): SOR 14.6 s, Chebyshev 1 / 3 steps 5.4 /
+#: 8.0 s, unsmoothed aggregation 10.4 s (set-up 4.8 s): none saves more than 1 s a solve.
 SUBMODEL_SOLVERS = ("cg-gamg", "mumps")
 #: CG's initial guess: "rigid", the rigid motion nearest to the cut values (the gear's
 #: rigid motion dominates them; the interior takes it with no stress, so CG starts from
