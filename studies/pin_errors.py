@@ -97,7 +97,8 @@ def run(case: str, errors: list[float], out: Path, level: int, direction: str,
 
 
 def _row(pos: dict, e: float, k_sun: float) -> dict:
-    root = cycle_bending([{"bending_stress": pos.get("bending_stress"), "roll": pos["roll"]}])
+    root = cycle_bending([{"position": 0, "bending_stress": pos.get("bending_stress"),
+                           "roll": pos["roll"]}])  # fmt: skip
     return {
         "sun_radial_stiffness": k_sun,
         "error_um": e,

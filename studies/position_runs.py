@@ -66,7 +66,8 @@ def fillet_scalars(solved: list[dict]) -> dict[str, dict[str, float]]:
     sizes = sorted({f for p in solved for f in (p.get("bending_stress_fillets") or {})}, key=float)
     out = {}
     for f in sizes:
-        recs = [{"bending_stress": (p.get("bending_stress_fillets") or {}).get(f)} for p in solved]
+        recs = [{"position": i, "bending_stress": (p.get("bending_stress_fillets") or {}).get(f)}
+                for i, p in enumerate(solved)]  # fmt: skip
         cyc = cycle_bending(recs)
         out[f] = {
             f"{name}.{k}": float(v)
