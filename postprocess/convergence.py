@@ -295,41 +295,9 @@ def off_ladder(
     }
 
 
-def compare_runs(recorded: Mapping, again: Mapping) -> dict:
-    """A run solved again against its record (``python -m studies.convergence CASE
-    --reproduce L``): every scalar of the rows' ``scalars`` and ``fillet_scalars`` (keyed
-    ``<fillet> mm:<key>``) compared. ``scalars``: how many both rows hold; ``identical``: how
-    many are the same float (to the bit); ``max_rel_diff``: the largest |b - a| / |a| over
-    the others (|b - a| where a is 0), None when all are identical; ``worst``: its key;
-    ``missing``: keys one row holds and the other does not (a changed reading, not a
-    reproduction)."""
-
-    def flat(row: Mapping) -> dict[str, float | None]:
-        out = dict(row.get("scalars") or {})
-        for fillet, vals in (row.get("fillet_scalars") or {}).items():
-            out.update({f"{fillet} mm:{k}": v for k, v in vals.items()})
-        return out
-
-    a, b = flat(recorded), flat(again)
-    both = sorted(a.keys() & b.keys())
-    same, worst, rel = 0, None, None
-    for k in both:
-        x, y = a[k], b[k]
-        if x == y or (x is None and y is None):
-            same += 1
-            continue
-        if x is None or y is None:
-            d = math.inf
-        else:
-            d = abs(y - x) / abs(x) if x else abs(y - x)
-        if rel is None or d > rel:
-            rel, worst = d, k
-    return {"scalars": len(both), "identical": same, "max_rel_diff": rel, "worst": worst,
-            "missing": sorted(a.keys() ^ b.keys())}  # fmt: skip
-
-
 def reproduction_text(entry: Mapping) -> str:
-    """A record's reproduction (:func:`compare_runs` with its run, date and code) in words."""
+    """A record's reproduction (:func:`postprocess.convergence_study.compare_runs`, with its
+    run, date and code) in words."""
     n, same = entry.get("scalars", 0), entry.get("identical", 0)
     if entry.get("error"):
         how = f"failed ({entry['error']})"

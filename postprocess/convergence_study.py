@@ -32,6 +32,9 @@ extrapolation (not monotone) its error is bounded by the spread of the levels in
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
+
 from postprocess.convergence import (
     MOMENT_RTOL,
     NEAR_ZERO,
@@ -486,3 +489,40 @@ def reduce_study(conv: dict) -> dict:
         return conv
     table = scalar_table(conv["runs"], conv.get("ladder_degree", 1), conv["case_level"])
     return {**conv, "scalars": table, "recommendation": recommend(conv["runs"], table)}
+
+
+def compare_runs(recorded: Mapping, again: Mapping) -> dict:
+    """A run solved again against its record (``python -m studies.convergence CASE
+    --reproduce L``): every scalar of the rows' ``scalars`` and ``fillet_scalars`` (keyed
+    ``<fillet> mm:<key>``) compared. ``scalars``: how many both rows hold; ``identical``: how
+    many are the same float (to the bit); ``max_rel_diff``: the largest |b - a| / max(|a|,
+    z) over the others, z the zero scale of the scalar's kind and unit in the recorded run
+    (:func:`_zero_scales`: a free pinion's spin moment of 3e-13 N m is round-off of zero, not
+    a value to be reproduced to 1e-11 of itself), None when all are identical; ``worst``: its
+    key; ``missing``: keys one row holds and the other does not (a changed reading, not a
+    reproduction)."""
+
+    def flat(row: Mapping) -> dict[str, float | None]:
+        out = dict(row.get("scalars") or {})
+        for fillet, vals in (row.get("fillet_scalars") or {}).items():
+            out.update({f"{fillet} mm:{k}": v for k, v in vals.items()})
+        return out
+
+    a, b = flat(recorded), flat(again)
+    zero = _zero_scales({"scalars": {k.split(":")[-1]: v for k, v in a.items() if v is not None}})
+    both = sorted(a.keys() & b.keys())
+    same, worst, rel = 0, None, None
+    for k in both:
+        x, y = a[k], b[k]
+        if x == y or (x is None and y is None):
+            same += 1
+            continue
+        if x is None or y is None:
+            d = math.inf
+        else:
+            scale = max(abs(x), zero.get(_unit_group(k.split(":")[-1]), 0.0))
+            d = abs(y - x) / scale if scale else abs(y - x)
+        if rel is None or d > rel:
+            rel, worst = d, k
+    return {"scalars": len(both), "identical": same, "max_rel_diff": rel, "worst": worst,
+            "missing": sorted(a.keys() ^ b.keys())}  # fmt: skip

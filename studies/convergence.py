@@ -62,9 +62,9 @@ from pathlib import Path
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
 from meshing import sizing
 from meshing.submodel import submodel_level
-from postprocess.convergence import compare_runs, reproduction_text
+from postprocess.convergence import reproduction_text
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
-from postprocess.convergence_study import reduce_study
+from postprocess.convergence_study import compare_runs, reduce_study
 from postprocess.run_scalars import run_label
 from studies.cli import InputError, guarded
 from studies.files import ResultFileError, read_json, write_json
@@ -293,7 +293,7 @@ def reduce_records(records: Path = RECORDS) -> list[Path]:
 def reproduce(args) -> dict:
     """Solve the recorded run at level ``args.reproduce`` again by today's code, as the
     record solved it (its positions, submodel readings, out of core or not), compare every
-    scalar (:func:`postprocess.convergence.compare_runs`) and add the comparison to the
+    scalar (:func:`postprocess.convergence_study.compare_runs`) and add the comparison to the
     record's ``reproduced`` list (one entry per run and source hash, the latest kept). A
     record solved by other code stands for today's only as far as this shows: summaries
     quote it beside the record's ± (:mod:`studies.uncertainty`). The run is kept under

@@ -832,9 +832,10 @@ def test_a_two_level_study_assumes_the_formal_order_of_where_a_stress_is_read():
 
 
 def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
-    from postprocess.convergence import compare_runs, reproduction_text
+    from postprocess.convergence import reproduction_text
+    from postprocess.convergence_study import compare_runs
 
-    a = {"scalars": {"My_pin": 40.0, "Mz": 0.0, "s": None},
+    a = {"scalars": {"My_pin": 40.0, "Mz_pin": 3e-13, "ZS": None},
          "fillet_scalars": {"0.15": {"bending_stress.sun": 700.0}}}  # fmt: skip
     same = compare_runs(a, a)
     assert same == {"scalars": 4, "identical": 4, "max_rel_diff": None, "worst": None,
@@ -842,16 +843,22 @@ def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     assert "every one of its 4 scalars the same to the bit" in reproduction_text(
         {"run": "L0P1", "date": "d", **same}
     )
-    b = {"scalars": {"My_pin": 40.0 * (1 + 3e-11), "Mz": 1e-13, "t": 1.0},
+    b = {"scalars": {"My_pin": 40.0 * (1 + 3e-11), "Mz_pin": -1e-13, "ZR": 1.0},
          "fillet_scalars": {"0.15": {"bending_stress.sun": 707.0}}}  # fmt: skip
     got = compare_runs(a, b)
-    assert got["scalars"] == 3 and got["identical"] == 0  # "s" and "t" in one run only
+    assert got["scalars"] == 3 and got["identical"] == 0  # ZS and ZR in one run only
     assert got["worst"] == "0.15 mm:bending_stress.sun"
     assert got["max_rel_diff"] == pytest.approx(0.01)
-    assert got["missing"] == ["s", "t"]
+    assert got["missing"] == ["ZR", "ZS"]
     text = reproduction_text({"run": "L0P1", "date": "d", **got})
     assert "0 of 3 scalars the same to the bit, the others within 1.0e-02" in text
     assert "2 scalar(s) in one run only" in text
+    # round-off of zero is judged against the zero scale of its kind (1e-3 of 40 N m), not
+    # against itself: 4e-13 N m of change is 1e-11 of it, not 133 %
+    b["fillet_scalars"]["0.15"]["bending_stress.sun"] = 700.0
+    b["scalars"]["My_pin"] = 40.0
+    got = compare_runs(a, b)
+    assert got["worst"] == "Mz_pin" and got["max_rel_diff"] == pytest.approx(1e-11)
 
 
 def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
