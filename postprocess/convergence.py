@@ -308,6 +308,9 @@ def reproduction_text(entry: Mapping) -> str:
                f"{entry.get('max_rel_diff') or 0:.1e} (largest: {entry.get('worst')})")  # fmt: skip
         if entry.get("missing"):
             how += f", {len(entry['missing'])} scalar(s) in one run only"
+        for kind, t in sorted((entry.get("targets") or {}).items()):
+            kinds = {"stress": "stresses"}.get(kind, f"{kind}s")
+            how += f"; the targeted {kinds} within {t['max_rel_diff']:.1e} ({t['key']})"
     return f"its run {entry.get('run')} solved again by today's code on {entry.get('date')}: {how}"
 
 

@@ -499,8 +499,10 @@ def compare_runs(recorded: Mapping, again: Mapping) -> dict:
     z) over the others, z the zero scale of the scalar's kind and unit in the recorded run
     (:func:`_zero_scales`: a free pinion's spin moment of 3e-13 N m is round-off of zero, not
     a value to be reproduced to 1e-11 of itself), None when all are identical; ``worst``: its
-    key; ``missing``: keys one row holds and the other does not (a changed reading, not a
-    reproduction)."""
+    key; ``targets``: per kind with an accuracy target (moment, stress: :func:`target`) the
+    largest such difference among the targeted scalars and its key (what a reader holds
+    against the ± of that kind); ``missing``: keys one row holds and the other does not (a
+    changed reading, not a reproduction)."""
 
     def flat(row: Mapping) -> dict[str, float | None]:
         out = dict(row.get("scalars") or {})
@@ -512,17 +514,23 @@ def compare_runs(recorded: Mapping, again: Mapping) -> dict:
     zero = _zero_scales({"scalars": {k.split(":")[-1]: v for k, v in a.items() if v is not None}})
     both = sorted(a.keys() & b.keys())
     same, worst, rel = 0, None, None
+    targets: dict[str, dict] = {}
     for k in both:
         x, y = a[k], b[k]
         if x == y or (x is None and y is None):
+            d = 0.0
             same += 1
-            continue
-        if x is None or y is None:
+        elif x is None or y is None:
             d = math.inf
         else:
             scale = max(abs(x), zero.get(_unit_group(k.split(":")[-1]), 0.0))
             d = abs(y - x) / scale if scale else abs(y - x)
-        if rel is None or d > rel:
+        if d > 0 and (rel is None or d > rel):
             rel, worst = d, k
+        name = k.split(":")[-1]
+        if target(name) is not None:
+            kind = scalar_kind(name)
+            if kind not in targets or d > targets[kind]["max_rel_diff"]:
+                targets[kind] = {"max_rel_diff": d, "key": k}
     return {"scalars": len(both), "identical": same, "max_rel_diff": rel, "worst": worst,
-            "missing": sorted(a.keys() ^ b.keys())}  # fmt: skip
+            "targets": targets, "missing": sorted(a.keys() ^ b.keys())}  # fmt: skip

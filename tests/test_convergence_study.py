@@ -838,8 +838,9 @@ def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     a = {"scalars": {"My_pin": 40.0, "Mz_pin": 3e-13, "ZS": None},
          "fillet_scalars": {"0.15": {"bending_stress.sun": 700.0}}}  # fmt: skip
     same = compare_runs(a, a)
-    assert same == {"scalars": 4, "identical": 4, "max_rel_diff": None, "worst": None,
-                    "missing": []}  # fmt: skip
+    assert same["scalars"] == same["identical"] == 4 and same["missing"] == []
+    assert same["max_rel_diff"] is None and same["worst"] is None
+    assert same["targets"]["moment"] == {"max_rel_diff": 0.0, "key": "My_pin"}
     assert "every one of its 4 scalars the same to the bit" in reproduction_text(
         {"run": "L0P1", "date": "d", **same}
     )
@@ -853,6 +854,11 @@ def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     text = reproduction_text({"run": "L0P1", "date": "d", **got})
     assert "0 of 3 scalars the same to the bit, the others within 1.0e-02" in text
     assert "2 scalar(s) in one run only" in text
+    # the targeted kinds apart: the moments within 3e-11, the stresses within 1 %
+    assert got["targets"]["moment"]["key"] == "My_pin"
+    assert got["targets"]["stress"] == {"max_rel_diff": pytest.approx(0.01),
+                                        "key": "0.15 mm:bending_stress.sun"}  # fmt: skip
+    assert "the targeted moments within 3.0e-11 (My_pin)" in text
     # round-off of zero is judged against the zero scale of its kind (1e-3 of 40 N m), not
     # against itself: 4e-13 N m of change is 1e-11 of it, not 133 %
     b["fillet_scalars"]["0.15"]["bending_stress.sun"] = 700.0
