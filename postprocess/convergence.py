@@ -311,7 +311,8 @@ def reproduction_text(entry: Mapping) -> str:
         for kind, t in sorted((entry.get("targets") or {}).items()):
             kinds = {"stress": "stresses"}.get(kind, f"{kind}s")
             how += f"; the targeted {kinds} within {t['max_rel_diff']:.1e} ({t['key']})"
-    return f"its run {entry.get('run')} solved again by today's code on {entry.get('date')}: {how}"
+    return (f"its run {entry.get('run')} solved again by code {entry.get('code_hash')} "
+            f"({entry.get('date')}): {how}")  # fmt: skip
 
 
 # ------------------------------------------------------------------ summaries and reports

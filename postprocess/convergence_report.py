@@ -236,8 +236,7 @@ def _reproductions(conv: dict) -> list[str]:
         return []
     lines = ["Solved again by later code (`--reproduce`):", ""]
     for e in again:
-        lines.append(f"- code {e.get('code_hash')} (commit {str(e.get('git_revision'))[:10]}): "
-                     f"{reproduction_text(e)}")  # fmt: skip
+        lines.append(f"- {reproduction_text(e)}; commit {str(e.get('git_revision'))[:10]}")
     return [*lines, ""]
 
 

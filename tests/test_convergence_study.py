@@ -879,6 +879,7 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     import studies.convergence as conv_mod
     from postprocess.convergence import uncertainty_note
     from studies.convergence import main
+    from studies.provenance import code_hash
 
     case = load_study_case("1-GB")
     records, out = tmp_path / "records", tmp_path / "out"
@@ -913,7 +914,7 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     got = summary_uncertainty(case, 1, 1, tmp_path / "results", records=records)
     src = got["uncertainty_source"]
     assert src["code_changed"] is True and src["reproduced"] == entry
-    assert "its run L0P1 solved again by today's code" in src["note"]
+    assert f"its run L0P1 solved again by code {code_hash()}" in src["note"]
     assert "every one of its 7 scalars the same to the bit" in uncertainty_note({"1-GB": got})
     # again by the same code: the entry is replaced, and a moved scalar is counted
     assert main(argv) == 0
