@@ -136,12 +136,14 @@ def test_changed_inputs_are_solved_again(study, monkeypatch, tmp_path):
     assert [c[0] for c in calls] == [8.80e7, 8.80e7]
 
 
-def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
-    out, _ = study
-    (tmp_path / "1-GA").mkdir()
-    (tmp_path / "1-GA" / "positions").mkdir()
-    first = out / "1-GA" / "positions" / "0.json"
-    (tmp_path / "1-GA" / "positions" / "0.json").write_text(first.read_text())
+def _lose_all_but(kept: int, out: Path, tmp_path: Path, monkeypatch) -> dict:
+    """The study run again in ``tmp_path`` with only position ``kept`` finished (copied from
+    ``out``) and every other one failing: the summary it keeps."""
+    (tmp_path / "1-GA" / "positions").mkdir(parents=True)
+    name = f"{kept}.json"
+    (tmp_path / "1-GA" / "positions" / name).write_text(
+        (out / "1-GA" / "positions" / name).read_text()
+    )
 
     def fail(*args, **kwargs):
         raise RuntimeError("active set did not converge (test)")
@@ -149,7 +151,12 @@ def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     monkeypatch.setattr(study_run, "solve_position", fail)
     with pytest.raises(RuntimeError, match="1 of 2 positions failed"):
         study_run.run_study("1-GA", tmp_path, level=0, positions=N_POS)
-    kept = json.loads((tmp_path / "1-GA" / "summary.json").read_text())
+    return json.loads((tmp_path / "1-GA" / "summary.json").read_text())
+
+
+def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
+    out, _ = study
+    kept = _lose_all_but(0, out, tmp_path, monkeypatch)
     assert [p["roll"] for p in kept["positions"]] == [0.0]
     assert kept["failed_positions"][0]["position"] == 1
     assert "did not converge" in kept["failed_positions"][0]["error"]
@@ -169,17 +176,7 @@ def test_a_failed_first_position_leaves_the_others_named_by_their_cycle_index(
     it so (its record and where the root stress peaks), not by its place among the finished
     ones (it said position 0, the failed one, until 2026-11-29)."""
     out, summary = study
-    (tmp_path / "1-GA" / "positions").mkdir(parents=True)
-    second = out / "1-GA" / "positions" / "1.json"
-    (tmp_path / "1-GA" / "positions" / "1.json").write_text(second.read_text())
-
-    def fail(*args, **kwargs):
-        raise RuntimeError("active set did not converge (test)")
-
-    monkeypatch.setattr(study_run, "solve_position", fail)
-    with pytest.raises(RuntimeError, match="1 of 2 positions failed"):
-        study_run.run_study("1-GA", tmp_path, level=0, positions=N_POS)
-    kept = json.loads((tmp_path / "1-GA" / "summary.json").read_text())
+    kept = _lose_all_but(1, out, tmp_path, monkeypatch)
     assert [p["position"] for p in kept["positions"]] == [1]
     assert kept["positions"][0]["roll"] == summary["positions"][1]["roll"]
     assert [f["position"] for f in kept["failed_positions"]] == [0]
