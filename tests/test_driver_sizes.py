@@ -89,6 +89,7 @@ def test_a_variant_row_holds_the_paper_moments_and_the_read_stresses(monkeypatch
     row = ds.solve_variant(None, "fillet", 0, 0.0, None)
     assert row["peak_rss_mb"] > 0.0
     assert seen["level"] == variant_mesh("fillet", 0)[0] and seen["submodel_levels"] == (1,)
+    assert seen["store"].reuse is False  # nothing kept: each sector freed after its reading
     # the LOA alias and Mz (zero by physics) are left out, so is the offset ZS
     assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
     assert row["surface"] == {"sun": 870.0} and row["tangent"] == {"sun": 820.0}
