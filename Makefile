@@ -223,7 +223,7 @@ convergence-main: $(STAMP) ## the ladders behind the ±, unless recorded (RECORD
 
 # After a code change, the cheap evidence that the records still stand: each record's level-0
 # run solved again by today's code and compared scalar by scalar (kept in the record; the
-# summaries quote it). About 6 min for 1-GB, 15 min for 2B-GA on 2 cores.
+# summaries quote it). About 4 min for 1-GB, 5 min for 2B-GA on 2 cores (2026-11-29).
 .PHONY: reproduce-records
 reproduce-records: $(STAMP) ## solve the records' level-0 runs again by today's code, compare, note it in the records
 	$(PY) -m studies.convergence 1-GB --reproduce 0 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence

@@ -304,8 +304,9 @@ def reproduction_text(entry: Mapping) -> str:
     elif same == n and not entry.get("missing"):
         how = f"every one of its {n} scalars the same to the bit"
     else:
-        how = (f"{same} of {n} scalars the same to the bit, the others within "
-               f"{entry.get('max_rel_diff') or 0:.1e} (largest: {entry.get('worst')})")  # fmt: skip
+        how = f"{same} of {n} scalars the same to the bit"
+        if entry.get("max_rel_diff") is not None:
+            how += f", the others within {entry['max_rel_diff']:.1e} (largest: {entry['worst']})"
         if entry.get("missing"):
             how += f", {len(entry['missing'])} scalar(s) in one run only"
         for kind, t in sorted((entry.get("targets") or {}).items()):

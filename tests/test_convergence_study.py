@@ -859,6 +859,10 @@ def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     assert got["targets"]["stress"] == {"max_rel_diff": pytest.approx(0.01),
                                         "key": "0.15 mm:bending_stress.sun"}  # fmt: skip
     assert "the targeted moments within 3.0e-11 (My_pin)" in text
+    # every shared scalar the same, one in one run only: no "others within" to speak of
+    more = {**a, "scalars": {**a["scalars"], "ZR": 1.0}}
+    only = reproduction_text({"run": "L0P1", "date": "d", **compare_runs(a, more)})
+    assert "4 of 4 scalars the same to the bit, 1 scalar(s) in one run only" in only
     # round-off of zero is judged against the zero scale of its kind (1e-3 of 40 N m), not
     # against itself: 4e-13 N m of change is 1e-11 of it, not 133 %
     b["fillet_scalars"]["0.15"]["bending_stress.sun"] = 700.0
