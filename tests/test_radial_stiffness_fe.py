@@ -221,6 +221,17 @@ def test_report_states_the_disagreement():
     assert "**the FE does not give the closed form**" in text
     assert "+12.0% / +12.0%" in text  # FE / closed form - 1, external / internal
     assert "## Why the FE differs from the closed form" in text
+    # one torque: a departure from the closed form says nothing about proportionality (the
+    # report said "not proportional to the load" from one torque until 2026-11-29)
+    assert "One torque solved: whether the FE k_r is proportional to it is not tested" in text
+    assert "not proportional" not in text
+    # two torques with k_r in proportion (12 % off the closed form at both): a spread of 0
+    half = {**data["nominal"], "sun_torque_Nm": data["nominal"]["sun_torque_Nm"] / 2,
+            "k_r": {k: v / 2 for k, v in data["nominal"]["k_r"].items()}}  # fmt: skip
+    two = {**data, "torque_runs": [half, data["nominal"]]}
+    assert "a spread of 0.0% over the torques" in rf.report(two)
+    half["k_r"] = {k: v / 2 * 1.1 for k, v in data["nominal"]["k_r"].items()}
+    assert "a spread of 9.5% over the torques" in rf.report(two)
     # a second mesh position that disagrees is reported as such
     data["second_roll"]["internal"] *= 0.77
     text = rf.report(data)
