@@ -305,6 +305,9 @@ def reproduction_text(entry: Mapping) -> str:
         how = f"every one of its {n} scalars the same to the bit"
     else:
         how = f"{same} of {n} scalars the same to the bit"
+        d0, d1 = entry.get("dofs") or (None, None)
+        if d0 != d1:
+            how += f" (another mesh: {d0} DOFs recorded, {d1} now)"
         if entry.get("max_rel_diff") is not None:
             how += f", the others within {entry['max_rel_diff']:.1e} (largest: {entry['worst']})"
         if entry.get("missing"):

@@ -499,10 +499,11 @@ def compare_runs(recorded: Mapping, again: Mapping) -> dict:
     z) over the others, z the zero scale of the scalar's kind and unit in the recorded run
     (:func:`_zero_scales`: a free pinion's spin moment of 3e-13 N m is round-off of zero, not
     a value to be reproduced to 1e-11 of itself), None when all are identical; ``worst``: its
-    key; ``targets``: per kind with an accuracy target (moment, stress: :func:`target`) the
-    largest such difference among the targeted scalars and its key (what a reader holds
-    against the ± of that kind); ``missing``: keys one row holds and the other does not (a
-    changed reading, not a reproduction)."""
+    key; ``dofs``: the two runs' DOFs (another count: another mesh, whose differences are
+    not round-off); ``targets``: per kind with an accuracy target (moment, stress:
+    :func:`target`) the largest such difference among the targeted scalars and its key
+    (what a reader holds against the ± of that kind); ``missing``: keys one row holds and
+    the other does not (a changed reading, not a reproduction)."""
 
     def flat(row: Mapping) -> dict[str, float | None]:
         out = dict(row.get("scalars") or {})
@@ -533,4 +534,5 @@ def compare_runs(recorded: Mapping, again: Mapping) -> dict:
             if kind not in targets or d > targets[kind]["max_rel_diff"]:
                 targets[kind] = {"max_rel_diff": d, "key": k}
     return {"scalars": len(both), "identical": same, "max_rel_diff": rel, "worst": worst,
-            "targets": targets, "missing": sorted(a.keys() ^ b.keys())}  # fmt: skip
+            "targets": targets, "missing": sorted(a.keys() ^ b.keys()),
+            "dofs": [recorded.get("dofs"), again.get("dofs")]}  # fmt: skip
