@@ -159,6 +159,16 @@ driver-sizes: $(STAMP) ## which global size the root-stress driver error follows
 	$(PY) -m studies.driver_sizes --case $(or $(CASE),1-GB) --level $(DRIVER_LEVEL) \
 	  --out $(RESULTS)/convergence
 
+# Which sizes a root-stress sector's values follow: one global solution of level
+# SECTOR_LEVEL read on sectors of other sizes (the read fillet alone refined by 1.5 twice, and
+# the other sizes one level coarser and finer at one fillet size); one process, finished
+# variants kept (1-GB level 1: 5 variants, about 3 min each beside their sectors).
+SECTOR_LEVEL ?= 1
+.PHONY: sector-sizes
+sector-sizes: $(STAMP) ## which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>.{json,md}
+	$(PY) -m studies.sector_sizes --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
+	  --out $(RESULTS)/convergence
+
 # The bodies' linear solvers (issue 13 item 5): exact MUMPS LU, block low-rank MUMPS and
 # CG/GAMG on one 1-GB position per level; time, peak memory and the change of every result.
 LINEAR_LEVELS ?= 1 2

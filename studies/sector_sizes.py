@@ -1,0 +1,229 @@
+"""Which of a root-stress sector's sizes its values follow: one global solution (the driver)
+read on sectors of other sizes.
+
+    python -m studies.sector_sizes [--case 1-GB] [--level 1] [--roll 0]
+        [--variants 2:0.15 2:0.1 ...] [--out results/convergence]
+
+The convergence study splits a root stress's error into the driver's and the sector's
+(:mod:`studies.convergence`, ``--split-root-stress``); its sector ladder refines the whole
+sector at once (the sectors of levels L, L + 1, L + 2, :func:`meshing.submodel.submodel_level`),
+every size with its own ratio. This study keeps the driver (the global solution of level
+``--level``) and reads it on sectors given as ``K:F``: the sizes of level K with the read
+fillets at F mm. The default variants, for the sector S = L + 1 of level L and its read
+fillet f (:data:`meshing.submodel.SUBMODEL_FILLET`):
+
+    S:f                the sector the case level reads on today
+    S:f/1.5, S:f/2.25  the read fillets alone refined, by a constant ratio of 1.5
+    S-1:f/1.5, S+1:f/1.5  the other sizes (flanks, teeth, other fillets, body) one level
+                       coarser and finer at a fixed read fillet
+
+so the read fillet's ladder (systematic, the other sizes fixed) is seen apart from the
+scatter that the other sizes give at one fillet size: what an equally valid sector would
+read. Each variant is one :func:`studies.position.solve_position` of its own, with a store
+that keeps nothing (the same matrix and right-hand side each time, so the same driver; the
+report gives the moments' largest change over the variants as a check); it also reads the
+case level's own sectors (its default), a cost this study does not use (1-GB level 1: about
+65 s for the global solve and 130 s for the own sectors per variant). A finished variant is
+kept in ``<out>/<case>/sector_sizes_L<L>.json`` (written after each) while the case's inputs
+(:func:`cases.study_case.inputs_hash`), the source hash (:func:`studies.provenance.code_hash`),
+the level and the roll are those it was solved with; otherwise the file starts afresh.
+Serial. Exit status 0, 2 invalid input, 3 a file could not be written. A diagnostic: it
+asserts nothing.
+"""
+
+from __future__ import annotations
+
+import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
+
+# isort: split
+import argparse
+import math
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+from mpi4py import MPI
+
+from cases.study_case import inputs_hash, load_study_case
+from meshing.sizing import LEVELS, Level
+from meshing.submodel import SECTOR_STEP, SUBMODEL_FILLET
+from postprocess.paper_moments import LOA_ALIASES
+from solvers.body_store import BodyStore
+from studies.cli import InputError, guarded
+from studies.files import atomic_write_text, read_json, write_json
+from studies.memory import peak_rss_mb
+from studies.position import solve_position
+from studies.provenance import code_hash
+
+#: the paper's moments of any case (N m): the driver check
+MOMENT_PREFIXES = ("Mx_", "My_", "M_LOA_")
+#: the fillet-only ladder's ratio and the read fillet sizes (mm) a variant may ask for
+RATIO = 1.5
+FILLET_RANGE = (0.03, 1.0)
+
+
+def default_variants(level: int) -> list[str]:
+    """The default ``K:F`` variants of the global ``level`` (module docstring)."""
+    s = min(level + SECTOR_STEP, len(LEVELS) - 1)
+    f = SUBMODEL_FILLET[s]
+    out = [f"{s}:{f:g}", f"{s}:{f / RATIO:.3g}", f"{s}:{f / RATIO**2:.3g}"]
+    out += [f"{k}:{f / RATIO:.3g}" for k in (s - 1, s + 1) if 0 <= k < len(LEVELS)]
+    return out
+
+
+def variant_sizes(spec: str) -> Level:
+    """The sector sizes of variant ``K:F`` (level K's sizes, read fillets F mm); a clear
+    :class:`InputError` naming the variant otherwise."""
+    head, sep, tail = spec.partition(":")
+    try:
+        k, f = int(head), float(tail)
+    except ValueError:
+        k, f = None, None
+    if not sep or k is None or not 0 <= k < len(LEVELS) or not math.isfinite(f):
+        raise InputError(f"--variants {spec!r}: give K:F, K a level 0 to {len(LEVELS) - 1} "
+                         "and F the read fillet size in mm, e.g. 2:0.1")  # fmt: skip
+    lo, hi = FILLET_RANGE
+    if not lo <= f <= hi:
+        raise InputError(f"--variants {spec!r}: the read fillet must be {lo:g} to {hi:g} mm")
+    return replace(LEVELS[k], fillet=f)
+
+
+def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> dict:
+    """One variant's sector DOFs, root stresses (surface and ISO line, MPa) and the driver's
+    moments, its wall time and the process's peak memory so far."""
+    sizes = variant_sizes(spec)
+    t0 = time.perf_counter()
+    out = solve_position(study, roll, comm, level=level, submodel_levels=(sizes,),
+                         sector_log=log, store=BodyStore(reuse=False))  # fmt: skip
+    bs = next(iter(out["bending_stress_fillets"].values()))
+    keys = [k for k in bs["locations"] if bs[k] is not None]
+    return {"variant": spec, "wall_s": time.perf_counter() - t0, "peak_rss_mb": peak_rss_mb(),
+            "sizes": {"fine": sizes.fine, "fillet": sizes.fillet, "tooth": sizes.tooth,
+                      "fillet_far": sizes.fillet_far, "coarse": sizes.coarse,
+                      "per_circle": sizes.per_circle},
+            "sector_dofs": {k: bs["locations"][k]["submodel"]["dofs"] for k in keys},
+            "moments": {k: v for k, v in out.items() if k.startswith(MOMENT_PREFIXES)
+                        and k not in LOA_ALIASES and isinstance(v, float)},
+            "surface": {k: bs[k] for k in keys},
+            "tangent": {k: bs["tangent"][k] for k in keys}}  # fmt: skip
+
+
+def _spread(values: list[float]) -> float | None:
+    """(max - min) / |mean| of ``values`` (None for fewer than two)."""
+    if len(values) < 2:
+        return None
+    mean = sum(values) / len(values)
+    return (max(values) - min(values)) / abs(mean) if mean else None
+
+
+def report(data: dict) -> str:
+    """The study as markdown: per variant its values and change from the first variant, the
+    spread at each read fillet size over the other sizes, and the driver check."""
+    rows = data["variants"]
+    lines = [
+        f"# Which sizes a root-stress sector follows: {data['case']}, driver level "
+        f"{data['level']}, roll {data['roll']:g}",
+        "",
+        "One global solution read on sectors of other sizes (K:F = level K's sizes with the "
+        "read fillets at F mm); change from the first variant in brackets (%).",
+        "",
+    ]
+    if not rows:
+        return "\n".join([*lines, "No variant solved yet."]) + "\n"
+    first = rows[0]
+    cols = [("surface", k) for k in first["surface"]]
+    cols += [("tangent", k) for k in first["tangent"] if first["tangent"][k] is not None]
+    head = [f"{k} ({g})" for g, k in cols]
+    lines += ["| variant | sector DOFs (largest) | wall (s) | peak (GB) | " + " | ".join(head)
+              + " |", "|---|---|---|---|" + "---|" * len(cols)]  # fmt: skip
+    for r in rows:
+        cells = []
+        for g, k in cols:
+            v, v0 = r[g].get(k), first[g][k]
+            if v is None:
+                cells.append("-")
+                continue
+            cells.append(f"{v:.1f}" if r is first else f"{v:.1f} ({(v / v0 - 1) * 100:+.2f})")
+        dofs = max(r["sector_dofs"].values(), default=0)
+        lines.append(f"| {r['variant']} | {dofs} | {r['wall_s']:.0f} | "
+                     f"{r['peak_rss_mb'] / 1024:.1f} | " + " | ".join(cells) + " |")  # fmt: skip
+    # the other sizes' scatter: variants of one read fillet size, over their levels
+    by_fillet: dict[float, list[dict]] = {}
+    for r in rows:
+        by_fillet.setdefault(r["sizes"]["fillet"], []).append(r)
+    shared = {f: rs for f, rs in by_fillet.items() if len(rs) > 1}
+    lines += ["", "## The other sizes at one read fillet", ""]
+    if not shared:
+        lines.append("No read fillet size was solved with more than one set of other sizes.")
+    for f, rs in sorted(shared.items()):
+        names = ", ".join(r["variant"] for r in rs)
+        spreads = []
+        for g, k in cols:
+            s = _spread([r[g][k] for r in rs if r[g].get(k) is not None])
+            if s is not None:
+                spreads.append(f"{k} ({g}) {s * 100:.2f} %")
+        lines.append(f"- {f:g} mm ({names}): spread (max - min) / mean: " + ", ".join(spreads))
+    moves = [abs(r["moments"][m] - first["moments"][m]) for r in rows for m in first["moments"]
+             if m in r["moments"]]  # fmt: skip
+    lines += ["", f"Driver check: the moments' largest change over the variants is "
+              f"{max(moves, default=0.0):.3g} N m (0: the same global solution)."]  # fmt: skip
+    return "\n".join(lines) + "\n"
+
+
+def run(args) -> Path:
+    if not 0 <= args.level < len(LEVELS):
+        raise InputError(f"--level: give 0 to {len(LEVELS) - 1}, got {args.level}")
+    specs = args.variants or default_variants(args.level)
+    for spec in specs:
+        variant_sizes(spec)  # every variant checked before anything is solved
+    study = load_study_case(args.case)
+    if study.numerics.root_stress != "submodel":
+        raise InputError(f"--case {args.case}: numerics.root_stress must be 'submodel'")
+    comm = MPI.COMM_WORLD
+    path = args.out / study.name / f"sector_sizes_L{args.level}.json"
+    key = {"inputs": inputs_hash(study), "code_hash": code_hash(), "level": args.level,
+           "roll": args.roll}  # fmt: skip
+    data = {"case": study.name, "level": args.level, "roll": args.roll, "key": key,
+            "variants": []}  # fmt: skip
+    if path.is_file():
+        old = read_json(path)
+        if isinstance(old, dict) and old.get("key") == key:
+            data = old  # finished variants of these inputs and code kept
+        elif comm.rank == 0:
+            print(f"{path}: solved from other inputs or code; starting afresh", flush=True)
+
+    def log(line: str) -> None:
+        if comm.rank == 0:
+            print(line, flush=True)
+
+    done = {r["variant"] for r in data["variants"]}
+    for spec in specs:
+        if spec in done:
+            continue
+        row = solve_variant(study, spec, args.level, args.roll, comm, log)
+        data["variants"].append(row)
+        if comm.rank == 0:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            write_json(path, data)
+            atomic_write_text(path.with_suffix(".md"), report(data))
+            print(f"{spec}: {row['wall_s']:.0f} s, peak {row['peak_rss_mb'] / 1024:.1f} GB",
+                  flush=True)  # fmt: skip
+    return path
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m studies.sector_sizes",
+                                 description=__doc__.splitlines()[0])  # fmt: skip
+    ap.add_argument("--case", default="1-GB")
+    ap.add_argument("--level", type=int, default=1, help="the driver's (global) level")
+    ap.add_argument("--roll", type=float, default=0.0, help="sun angle (rad)")
+    ap.add_argument(
+        "--variants", nargs="+", default=None, help="K:F sectors (default: module docstring)"
+    )
+    ap.add_argument("--out", type=Path, default=Path("results/convergence"))
+    return guarded(lambda: run(ap.parse_args(argv)))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

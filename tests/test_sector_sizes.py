@@ -1,0 +1,127 @@
+"""The sector-size diagnostic (studies.sector_sizes): its variants are the sizes they name,
+its defaults separate the read fillet's ladder from the other sizes, and its report gives
+each change, the other sizes' spread at one fillet size and the driver check."""
+
+from dataclasses import replace
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from meshing.sizing import LEVELS
+from meshing.submodel import SUBMODEL_FILLET
+from studies.cli import InputError
+from studies.sector_sizes import default_variants, report, run, variant_sizes
+
+
+def test_a_variant_is_level_k_with_the_read_fillet_f():
+    assert variant_sizes("3:0.1") == replace(LEVELS[3], fillet=0.1)
+    assert variant_sizes("0:0.45") == LEVELS[0]
+
+
+def test_the_defaults_of_level_1():
+    # today's sector of level 1 (level 2's sizes, 0.15 mm), its read fillet alone refined by
+    # 1.5 twice, and level 1's and 3's other sizes at the middle fillet
+    assert SUBMODEL_FILLET[2] == 0.15
+    assert default_variants(1) == ["2:0.15", "2:0.1", "2:0.0667", "1:0.1", "3:0.1"]
+
+
+@pytest.mark.parametrize("level", range(len(LEVELS)))
+def test_every_default_is_a_valid_variant(level):
+    for spec in default_variants(level):
+        variant_sizes(spec)
+
+
+@pytest.mark.parametrize("spec", ["2", "2:", "x:0.1", "9:0.1", "-1:0.1", "2:nan", "2:0.001",
+                                  "2:5"])  # fmt: skip
+def test_a_bad_variant_is_named(spec):
+    with pytest.raises(InputError, match="--variants"):
+        variant_sizes(spec)
+
+
+@pytest.mark.parametrize(
+    "kw, field", [({"level": 5}, "--level"), ({"variants": ["2:0.1", "q"]}, "--variants")]
+)
+def test_bad_input_names_the_option_before_anything_is_solved(kw, field, tmp_path: Path):
+    args = SimpleNamespace(**{"case": "1-GB", "level": 1, "roll": 0.0, "variants": None,
+                              "out": tmp_path, **kw})  # fmt: skip
+    with pytest.raises(InputError, match=field):
+        run(args)
+    assert not any(tmp_path.iterdir())
+
+
+def _row(spec, sun, tangent, moment=200.0):
+    fillet = float(spec.split(":")[1])
+    return {"variant": spec, "wall_s": 60.0, "peak_rss_mb": 2048.0,
+            "sizes": {"fillet": fillet}, "sector_dofs": {"sun": 1000},
+            "moments": {"My_pin": moment}, "surface": {"sun": sun},
+            "tangent": {"sun": tangent}}  # fmt: skip
+
+
+def test_report_gives_changes_spread_at_one_fillet_and_the_driver_check():
+    data = {"case": "X", "level": 1, "roll": 0.0,
+            "variants": [_row("2:0.15", 800.0, 700.0), _row("2:0.1", 808.0, 693.0),
+                         _row("1:0.1", 792.0, 693.0, moment=200.5)]}  # fmt: skip
+    text = report(data)
+    assert "| 2:0.1 | 1000 | 60 | 2.0 | 808.0 (+1.00) | 693.0 (-1.00) |" in text
+    # 0.1 mm over two sets of other sizes: (808 - 792) / 800 = 2 %, the ISO line the same
+    assert (
+        "- 0.1 mm (2:0.1, 1:0.1): spread (max - min) / mean: sun (surface) 2.00 %, "
+        "sun (tangent) 0.00 %" in text
+    )
+    assert "largest change over the variants is 0.5 N m" in text
+
+
+def test_report_with_one_set_of_sizes_per_fillet_says_so():
+    data = {"case": "X", "level": 1, "roll": 0.0, "variants": [_row("2:0.15", 800.0, 700.0)]}
+    text = report(data)
+    assert "No read fillet size was solved with more than one set of other sizes." in text
+    assert "is 0 N m (0: the same global solution)" in text
+
+
+def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
+    import studies.sector_sizes as ss
+
+    seen = {}
+
+    def fake_solve(study, roll, comm, **kw):  # what solve_position returns, reduced
+        seen.update(kw)
+        bs = {
+            "sun": 870.0,
+            "ring": None,
+            "tangent": {"sun": 820.0, "ring": None},
+            "locations": {"sun": {"submodel": {"dofs": 7}}, "ring": {"read_instead": "x"}},
+        }
+        return {"dofs": 5, "Mx_SP": 1.0, "M_LOA_sun_SP": 2.0, "M_LOA_SP_SUN": 2.0,
+                "Mz_SP": 1e-13, "bending_stress_fillets": {"0.1": bs}}  # fmt: skip
+
+    monkeypatch.setattr(ss, "solve_position", fake_solve)
+    row = ss.solve_variant(None, "3:0.1", 1, 0.0, None)
+    assert seen["level"] == 1 and seen["submodel_levels"] == (variant_sizes("3:0.1"),)
+    assert seen["store"].reuse is False  # nothing kept: each variant's sectors freed
+    # a key read on another gear's sector (None) is left out; so are the LOA alias and Mz
+    assert row["surface"] == {"sun": 870.0} and row["sector_dofs"] == {"sun": 7}
+    assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
+
+
+def test_finished_variants_are_kept_only_for_the_same_inputs_and_code(monkeypatch, tmp_path):
+    import studies.sector_sizes as ss
+
+    solved = []
+
+    def fake_variant(study, spec, level, roll, comm, log=None):
+        solved.append(spec)
+        return _row(spec, 800.0, 700.0)
+
+    monkeypatch.setattr(ss, "solve_variant", fake_variant)
+    args = SimpleNamespace(case="1-GB", level=1, roll=0.0, variants=["2:0.15", "2:0.1"],
+                           out=tmp_path)  # fmt: skip
+    path = ss.run(args)
+    assert solved == ["2:0.15", "2:0.1"]
+    ss.run(args)  # the same inputs and code: nothing solved again
+    assert solved == ["2:0.15", "2:0.1"]
+    monkeypatch.setattr(ss, "code_hash", lambda: "other")  # another code: solved afresh
+    ss.run(args)
+    assert solved == ["2:0.15", "2:0.1"] * 2
+    assert [r["variant"] for r in ss.read_json(path)["variants"]] == ["2:0.15", "2:0.1"]
+    assert path.with_suffix(".md").is_file()
