@@ -15,7 +15,13 @@ from meshing import sizing
 from meshing import tags as T
 from meshing.body_geometry import build_geometry, classify_surfaces
 from meshing.gear_body import GearBody
-from meshing.gmsh_util import add_physical_groups, enforce_quality, mesh_options, mesh_stats
+from meshing.gmsh_util import (
+    add_physical_groups,
+    curve_elements,
+    enforce_quality,
+    mesh_options,
+    mesh_stats,
+)
 from meshing.sizing import MeshingError
 
 
@@ -177,10 +183,13 @@ def build_body_mesh(gmsh, gb: GearBody, level: int, active_teeth=None) -> dict:
     t1 = time.perf_counter()
     gmsh.model.mesh.generate(3)
     netgen = enforce_quality(gmsh)
+    curved = curve_elements(gmsh) if gb.geometry_order == 2 else {}
     t_mesh = time.perf_counter() - t1
     stats = mesh_stats(gmsh)
     stats.update(
         netgen_optimized=netgen,
+        geometry_order=gb.geometry_order,
+        **curved,
         geometry_seconds=t_geo,
         mesh_seconds=t_mesh,
         names=[*sorted(groups), T.volume(gb.body)],

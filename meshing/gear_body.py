@@ -40,6 +40,9 @@ class GearBody:
     # (tooth, "pos"/"neg") of the fillets meshed at the level's ``fillet`` size; None: every
     # fillet of the active teeth (the other fillets of active teeth get ``fillet_far``)
     fine_fillets: tuple[tuple[int, str], ...] | None = None
+    # 1: straight 4-node tets; 2: curved 10-node tets whose edge nodes lie on the CAD faces
+    # (meshing.gmsh_util.curve_elements; the root-stress sectors, meshing/submodel.py)
+    geometry_order: int = 1
 
     @property
     def body(self) -> str:
@@ -97,6 +100,11 @@ class GearBody:
                         f"{self.body}: fine_fillets entry {item!r}: must be (tooth, 'pos' or "
                         f"'neg') with a tooth of the body ({self.teeth})"
                     )
+        if self.geometry_order not in (1, 2) or isinstance(self.geometry_order, bool):
+            raise MeshingError(
+                f"{self.body}: geometry_order = {self.geometry_order!r}: must be 1 (straight "
+                "tets) or 2 (curved tets)"
+            )
         m = g.normal_module
         if g.internal:
             if self.inner_radius is not None:
@@ -122,6 +130,8 @@ class GearBody:
         d = {k: v for k, v in asdict(self).items() if k != "gear"}
         if self.fine_fillets is None:  # the key of a body without it is the key it had
             del d["fine_fillets"]
+        if self.geometry_order == 1:  # likewise
+            del d["geometry_order"]
         d["gear"] = {k: v for k, v in asdict(self.gear).items()}
         d["body"] = self.body
         return d

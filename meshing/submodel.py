@@ -46,6 +46,13 @@ if len(SUBMODEL_FILLET) != len(sizing.LEVELS):  # one submodel size per global l
 #: one of its sizes changes; level 2's is within 0.35 % of level 3's (1.4 % on ISO's tangent
 #: lines) for twice the time (four keys, one process: 132 s against 66 s, set-up and solve)
 SECTOR_STEP = 1
+#: the sectors' geometry: 1 straight tets (the fillet a set of flat facets), 2 curved tets on
+#: the CAD faces (:func:`meshing.gmsh_util.curve_elements`). 1-GB at roll 0 on the level-1
+#: driver, level 2's sizes, read fillets 0.15 / 0.1 / 0.0667 mm, the sun's ISO-line value
+#: (MPa): straight 822.0 / 811.2 / 803.4 (observed order 0.8), curved 816.1 / 810.0 / 807.6
+#: (order 2.3); the other keys scatter by 0.5-1 % either way (studies/sector_sizes.py).
+#: Straight until the convergence records are solved again with curved sectors
+SUBMODEL_GEOMETRY_ORDER = 1
 
 
 def max_read_teeth(gear) -> int:
@@ -54,9 +61,11 @@ def max_read_teeth(gear) -> int:
     return gear.teeth // 2 - 2 * SUBMODEL_MARGIN
 
 
-def submodel_body(gb: GearBody, n_read: int, side: str, depth: float = SUBMODEL_DEPTH) -> GearBody:
+def submodel_body(gb: GearBody, n_read: int, side: str, depth: float = SUBMODEL_DEPTH,
+                  geometry_order: int | None = None) -> GearBody:  # fmt: skip
     """The canonical sector of ``gb``'s gear for ``n_read`` consecutive read teeth whose
-    ``side`` (``"pos"``/``"neg"``) fillets are in tension (see the module docstring)."""
+    ``side`` (``"pos"``/``"neg"``) fillets are in tension (see the module docstring), of
+    ``geometry_order`` (default :data:`SUBMODEL_GEOMETRY_ORDER`, read at the call)."""
     g = gb.gear
     if side not in ("pos", "neg"):
         raise MeshingError(f"{gb.body}: submodel side = {side!r}: must be 'pos' or 'neg'")
@@ -73,7 +82,9 @@ def submodel_body(gb: GearBody, n_read: int, side: str, depth: float = SUBMODEL_
         radii = {"outer_radius": min(gb.outer_radius, g.root_radius + depth * m)}
     else:
         radii = {"inner_radius": max(gb.inner_radius, g.root_radius - depth * m)}
-    return replace(gb, first_tooth=0, n_teeth=n, fine_fillets=fine, **radii)
+    order = SUBMODEL_GEOMETRY_ORDER if geometry_order is None else geometry_order
+    return replace(gb, first_tooth=0, n_teeth=n, fine_fillets=fine, geometry_order=order,
+                   **radii)  # fmt: skip
 
 
 def sector_turn(gear, first_read: int) -> float:

@@ -38,8 +38,12 @@ from solvers.errors import GapOperatorError
 MAX_EXCURSION = 0.5
 
 
-def locate(body, points: np.ndarray, padding: float | None = None):
-    """Locate points in a body's mesh; collective.
+def locate(body, points: np.ndarray, padding: float | None = None, curved: bool = False):
+    """Locate points in a body's mesh; collective. ``curved``: also a mesh of curved
+    (second-order) simplices, located by the straight simplex through each cell's vertices:
+    the reference coordinates are then those of the straight cell, off by the cell's sag (a
+    few um on a root-stress sector's flanks), which is all a point force's consistent nodal
+    loads need (:mod:`solvers.root_submodel`); the gap operator takes affine cells only.
 
     Returns:
         (owned mask (m,), cell (m,) local index or -1, reference coords (m, tdim),
@@ -49,7 +53,7 @@ def locate(body, points: np.ndarray, padding: float | None = None):
     tdim = mesh.topology.dim
     gdim = body.gdim
     m = len(points)
-    if mesh.geometry.cmaps[0].degree != 1 or mesh.topology.cell_type.name not in (
+    if (mesh.geometry.cmaps[0].degree != 1 and not curved) or mesh.topology.cell_type.name not in (
         "triangle",
         "tetrahedron",
     ):

@@ -256,7 +256,7 @@ class SubmodelBody:
         # loads: consistent nodal forces of the point forces on the canonical mesh
         pts, forces = loads
         f = dolfinx.fem.Function(self.V)
-        own, cells, X, _ = locate(self, pts @ Q)
+        own, cells, X, _ = locate(self, pts @ Q, curved=True)
         if np.any(own):
             elem = self.V.element.basix_element
             phi = elem.tabulate(0, X[own])[0, :, :, 0]

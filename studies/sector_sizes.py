@@ -16,6 +16,9 @@ fillet f (:data:`meshing.submodel.SUBMODEL_FILLET`):
     S:f/1.5, S:f/2.25  the read fillets alone refined, by a constant ratio of 1.5
     S-1:f/1.5, S+1:f/1.5  the other sizes (flanks, teeth, other fillets, body) one level
                        coarser and finer at a fixed read fillet
+    S:f:c ... S:f/2.25:c  the read fillet's ladder on curved (second-order) tets, whose
+                       fillet is no set of flat facets (:data:`meshing.submodel.
+                       SUBMODEL_GEOMETRY_ORDER`)
 
 so the read fillet's ladder (systematic, the other sizes fixed) is seen apart from the
 scatter that the other sizes give at one fillet size: what an equally valid sector would
@@ -45,6 +48,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
+import meshing.submodel as submodel
 from cases.study_case import inputs_hash, load_study_case
 from meshing.sizing import LEVELS, Level
 from meshing.submodel import SECTOR_STEP, SUBMODEL_FILLET
@@ -69,36 +73,45 @@ def default_variants(level: int) -> list[str]:
     f = SUBMODEL_FILLET[s]
     out = [f"{s}:{f:g}", f"{s}:{f / RATIO:.3g}", f"{s}:{f / RATIO**2:.3g}"]
     out += [f"{k}:{f / RATIO:.3g}" for k in (s - 1, s + 1) if 0 <= k < len(LEVELS)]
-    return out
+    return out + [f"{v}:c" for v in out[:3]]
 
 
-def variant_sizes(spec: str) -> Level:
-    """The sector sizes of variant ``K:F`` (level K's sizes, read fillets F mm); a clear
-    :class:`InputError` naming the variant otherwise."""
-    head, sep, tail = spec.partition(":")
+def variant_sizes(spec: str) -> tuple[Level, int]:
+    """The sector sizes and geometry order of variant ``K:F`` (level K's sizes, read fillets
+    F mm, straight tets) or ``K:F:c`` (curved tets); a clear :class:`InputError` naming the
+    variant otherwise."""
+    parts = spec.split(":")
     try:
-        k, f = int(head), float(tail)
-    except ValueError:
+        k, f = int(parts[0]), float(parts[1])
+    except (ValueError, IndexError):
         k, f = None, None
-    if not sep or k is None or not 0 <= k < len(LEVELS) or not math.isfinite(f):
-        raise InputError(f"--variants {spec!r}: give K:F, K a level 0 to {len(LEVELS) - 1} "
-                         "and F the read fillet size in mm, e.g. 2:0.1")  # fmt: skip
+    ok = len(parts) == 2 or (len(parts) == 3 and parts[2] == "c")
+    if not ok or k is None or not 0 <= k < len(LEVELS) or not math.isfinite(f):
+        raise InputError(f"--variants {spec!r}: give K:F or K:F:c, K a level 0 to "
+                         f"{len(LEVELS) - 1}, F the read fillet size in mm and c for curved "
+                         "tets, e.g. 2:0.1 or 2:0.1:c")  # fmt: skip
     lo, hi = FILLET_RANGE
     if not lo <= f <= hi:
         raise InputError(f"--variants {spec!r}: the read fillet must be {lo:g} to {hi:g} mm")
-    return replace(LEVELS[k], fillet=f)
+    return replace(LEVELS[k], fillet=f), 2 if len(parts) == 3 else 1
 
 
 def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> dict:
     """One variant's sector DOFs, root stresses (surface and ISO line, MPa) and the driver's
     moments, its wall time and the process's peak memory so far."""
-    sizes = variant_sizes(spec)
+    sizes, order = variant_sizes(spec)
     t0 = time.perf_counter()
-    out = solve_position(study, roll, comm, level=level, submodel_levels=(sizes,),
-                         sector_log=log, store=BodyStore(reuse=False))  # fmt: skip
+    kept = submodel.SUBMODEL_GEOMETRY_ORDER
+    submodel.SUBMODEL_GEOMETRY_ORDER = order  # read when a sector body is made
+    try:
+        out = solve_position(study, roll, comm, level=level, submodel_levels=(sizes,),
+                             sector_log=log, store=BodyStore(reuse=False))  # fmt: skip
+    finally:
+        submodel.SUBMODEL_GEOMETRY_ORDER = kept
     bs = next(iter(out["bending_stress_fillets"].values()))
     keys = [k for k in bs["locations"] if bs[k] is not None]
     return {"variant": spec, "wall_s": time.perf_counter() - t0, "peak_rss_mb": peak_rss_mb(),
+            "geometry_order": order,
             "sizes": {"fine": sizes.fine, "fillet": sizes.fillet, "tooth": sizes.tooth,
                       "fillet_far": sizes.fillet_far, "coarse": sizes.coarse,
                       "per_circle": sizes.per_circle},
@@ -151,7 +164,8 @@ def report(data: dict) -> str:
     # the other sizes' scatter: variants of one read fillet size, over their levels
     by_fillet: dict[float, list[dict]] = {}
     for r in rows:
-        by_fillet.setdefault(r["sizes"]["fillet"], []).append(r)
+        if r.get("geometry_order", 1) == 1:  # straight sectors: the other sizes alone differ
+            by_fillet.setdefault(r["sizes"]["fillet"], []).append(r)
     shared = {f: rs for f, rs in by_fillet.items() if len(rs) > 1}
     lines += ["", "## The other sizes at one read fillet", ""]
     if not shared:

@@ -8,6 +8,7 @@ from types import SimpleNamespace
 
 import pytest
 
+import meshing.submodel as submodel
 from meshing.sizing import LEVELS
 from meshing.submodel import SUBMODEL_FILLET
 from studies.cli import InputError
@@ -15,15 +16,18 @@ from studies.sector_sizes import default_variants, report, run, variant_sizes
 
 
 def test_a_variant_is_level_k_with_the_read_fillet_f():
-    assert variant_sizes("3:0.1") == replace(LEVELS[3], fillet=0.1)
-    assert variant_sizes("0:0.45") == LEVELS[0]
+    assert variant_sizes("3:0.1") == (replace(LEVELS[3], fillet=0.1), 1)
+    assert variant_sizes("0:0.45") == (LEVELS[0], 1)
+    assert variant_sizes("2:0.1:c") == (replace(LEVELS[2], fillet=0.1), 2)
 
 
 def test_the_defaults_of_level_1():
     # today's sector of level 1 (level 2's sizes, 0.15 mm), its read fillet alone refined by
-    # 1.5 twice, and level 1's and 3's other sizes at the middle fillet
+    # 1.5 twice, level 1's and 3's other sizes at the middle fillet, and the fillet's ladder
+    # on curved tets
     assert SUBMODEL_FILLET[2] == 0.15
-    assert default_variants(1) == ["2:0.15", "2:0.1", "2:0.0667", "1:0.1", "3:0.1"]
+    assert default_variants(1) == ["2:0.15", "2:0.1", "2:0.0667", "1:0.1", "3:0.1",
+                                   "2:0.15:c", "2:0.1:c", "2:0.0667:c"]  # fmt: skip
 
 
 @pytest.mark.parametrize("level", range(len(LEVELS)))
@@ -33,7 +37,7 @@ def test_every_default_is_a_valid_variant(level):
 
 
 @pytest.mark.parametrize("spec", ["2", "2:", "x:0.1", "9:0.1", "-1:0.1", "2:nan", "2:0.001",
-                                  "2:5"])  # fmt: skip
+                                  "2:5", "2:0.1:x", "2:0.1:c:c"])  # fmt: skip
 def test_a_bad_variant_is_named(spec):
     with pytest.raises(InputError, match="--variants"):
         variant_sizes(spec)
@@ -85,7 +89,7 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
     seen = {}
 
     def fake_solve(study, roll, comm, **kw):  # what solve_position returns, reduced
-        seen.update(kw)
+        seen.update(kw, order=submodel.SUBMODEL_GEOMETRY_ORDER)
         bs = {
             "sun": 870.0,
             "ring": None,
@@ -97,8 +101,11 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
 
     monkeypatch.setattr(ss, "solve_position", fake_solve)
     row = ss.solve_variant(None, "3:0.1", 1, 0.0, None)
-    assert seen["level"] == 1 and seen["submodel_levels"] == (variant_sizes("3:0.1"),)
+    assert seen["level"] == 1 and seen["submodel_levels"] == (variant_sizes("3:0.1")[0],)
     assert seen["store"].reuse is False  # nothing kept: each variant's sectors freed
+    assert seen["order"] == 1 and row["geometry_order"] == 1
+    ss.solve_variant(None, "3:0.1:c", 1, 0.0, None)  # curved while it solves, then as before
+    assert seen["order"] == 2 and submodel.SUBMODEL_GEOMETRY_ORDER == 1
     # a key read on another gear's sector (None) is left out; so are the LOA alias and Mz
     assert row["surface"] == {"sun": 870.0} and row["sector_dofs"] == {"sun": 7}
     assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
