@@ -448,3 +448,33 @@ def test_a_mesh_does_not_depend_on_what_was_meshed_before():
     with gmsh_util.session("next-body") as g:
         assert g.option.getNumber("Mesh.Algorithm3D") == 1  # gmsh's default (Delaunay)
         assert g.option.getNumber("Mesh.MeshSizeFromPoints") == 1
+
+
+def test_a_curved_sector_has_its_edge_nodes_on_the_exact_surfaces(built):
+    """geometry_order 2 (the root-stress sectors' option, meshing/submodel.py): 10-node tets,
+    none inverted, whose edge nodes lie on the exact helicoid and trochoid like the vertices
+    (within the same 0.5 um); an edge node on the straight chord instead would be off by the
+    chord's sag, about h^2 / (8 R) = 50 um on a 0.45 mm fillet element of radius 0.5 mm."""
+    from dataclasses import replace
+
+    straight = built["pinion-sector-L0"]
+    gb = replace(straight[0], geometry_order=2)
+    path, meta = body_mesh_file(gb, 0)
+    assert meta["element_types"] == [11] and meta["min_scaled_jacobian"] > 0.0
+    nodes = gmsh_util.group_nodes(path)
+    worst = {"flank": 0.0, "fillet": 0.0}
+    counts = [0, 0]  # fillet nodes: curved, straight
+    for name, xyz in nodes.items():
+        p = T.parse(name)
+        if p.kind in (T.FLANK_POS, T.FLANK_NEG):
+            dev = involute_deviation(gb.gear, xyz, p.kind.split("_")[1])
+            worst["flank"] = max(worst["flank"], float(np.abs(dev).max()))
+        if p.kind in (T.FILLET_POS, T.FILLET_NEG):
+            dev = fillet_deviation(gb.gear, xyz, p.kind.split("_")[1])
+            worst["fillet"] = max(worst["fillet"], float(np.abs(dev).max()))
+            counts[0] += len(xyz)
+            counts[1] += len(straight[4][name])
+    assert max(worst.values()) < FLANK_TOL, worst
+    assert counts[0] > 3 * counts[1]  # the edge nodes are there (a triangle mesh: ~4x)
+    with pytest.raises(MeshingError, match="geometry_order = 3: must be 1"):
+        replace(gb, geometry_order=3).validate()
