@@ -44,17 +44,14 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from mpi4py import MPI
-
-from cases.study_case import inputs_hash, load_study_case
+from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, Level
 from postprocess.paper_moments import LOA_ALIASES
 from solvers.body_store import BodyStore
 from studies.cli import InputError, guarded
-from studies.files import atomic_write_text, read_json, write_json
 from studies.memory import peak_rss_mb
 from studies.position import solve_position
-from studies.provenance import code_hash
+from studies.variant_file import run_variants
 
 #: the sector every variant is read on (the default level's: 0.15 mm read fillets)
 READ_LEVEL = 1
@@ -166,40 +163,13 @@ def run(args) -> Path:
     study = load_study_case(args.case)
     if study.numerics.root_stress != "submodel":
         raise InputError(f"--case {args.case}: numerics.root_stress must be 'submodel'")
-    comm = MPI.COMM_WORLD
-    path = args.out / study.name / f"driver_sizes_L{args.level}.json"
-    key = {"inputs": inputs_hash(study), "code_hash": code_hash(), "level": args.level,
-           "roll": args.roll}  # fmt: skip
-    data = {"case": study.name, "level": args.level, "roll": args.roll, "key": key,
-            "variants": []}  # fmt: skip
-    if path.is_file():
-        old = read_json(path)
-        if isinstance(old, dict) and old.get("key") == key:
-            data = old  # finished variants of these inputs and code kept
-        elif comm.rank == 0:
-            print(f"{path}: solved from other inputs or code; starting afresh", flush=True)
+    return run_variants(study, args.out, "driver_sizes", args.level, args.roll,
+                        args.variants, solve_variant, report, on_row=_read_fillet)  # fmt: skip
 
-    def log(line: str) -> None:
-        if comm.rank == 0:
-            print(line, flush=True)
 
-    done = {r["variant"] for r in data["variants"]}
-    for name in args.variants:
-        if name in done:
-            continue
-        row = solve_variant(study, name, args.level, args.roll, comm, log)
-        data["read_fillet_mm"] = row["read_fillet_mm"]
-        data["variants"].append(row)
-        if comm.rank == 0:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            write_json(path, data)
-            atomic_write_text(path.with_suffix(".md"), report(data))
-            print(
-                f"{name}: {row['dofs']} DOFs, {row['wall_s']:.0f} s, peak "
-                f"{row['peak_rss_mb'] / 1024:.1f} GB",
-                flush=True,
-            )
-    return path
+def _read_fillet(data: dict, row: dict) -> None:
+    """The read sector's fillet size (mm) into the file's head, for the report."""
+    data["read_fillet_mm"] = row["read_fillet_mm"]
 
 
 def main(argv=None) -> int:

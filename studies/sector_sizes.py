@@ -46,19 +46,16 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from mpi4py import MPI
-
 import meshing.submodel as submodel
-from cases.study_case import inputs_hash, load_study_case
+from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, Level
 from meshing.submodel import SECTOR_STEP, SUBMODEL_FILLET
 from postprocess.paper_moments import LOA_ALIASES
 from solvers.body_store import BodyStore
 from studies.cli import InputError, guarded
-from studies.files import atomic_write_text, read_json, write_json
 from studies.memory import peak_rss_mb
 from studies.position import solve_position
-from studies.provenance import code_hash
+from studies.variant_file import run_variants
 
 #: the paper's moments of any case (N m): the driver check
 MOMENT_PREFIXES = ("Mx_", "My_", "M_LOA_")
@@ -194,36 +191,8 @@ def run(args) -> Path:
     study = load_study_case(args.case)
     if study.numerics.root_stress != "submodel":
         raise InputError(f"--case {args.case}: numerics.root_stress must be 'submodel'")
-    comm = MPI.COMM_WORLD
-    path = args.out / study.name / f"sector_sizes_L{args.level}.json"
-    key = {"inputs": inputs_hash(study), "code_hash": code_hash(), "level": args.level,
-           "roll": args.roll}  # fmt: skip
-    data = {"case": study.name, "level": args.level, "roll": args.roll, "key": key,
-            "variants": []}  # fmt: skip
-    if path.is_file():
-        old = read_json(path)
-        if isinstance(old, dict) and old.get("key") == key:
-            data = old  # finished variants of these inputs and code kept
-        elif comm.rank == 0:
-            print(f"{path}: solved from other inputs or code; starting afresh", flush=True)
-
-    def log(line: str) -> None:
-        if comm.rank == 0:
-            print(line, flush=True)
-
-    done = {r["variant"] for r in data["variants"]}
-    for spec in specs:
-        if spec in done:
-            continue
-        row = solve_variant(study, spec, args.level, args.roll, comm, log)
-        data["variants"].append(row)
-        if comm.rank == 0:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            write_json(path, data)
-            atomic_write_text(path.with_suffix(".md"), report(data))
-            print(f"{spec}: {row['wall_s']:.0f} s, peak {row['peak_rss_mb'] / 1024:.1f} GB",
-                  flush=True)  # fmt: skip
-    return path
+    return run_variants(study, args.out, "sector_sizes", args.level, args.roll, specs,
+                        solve_variant, report)  # fmt: skip
 
 
 def main(argv=None) -> int:

@@ -102,25 +102,3 @@ def test_a_variant_missing_a_value_prints_a_dash():
     data = {"case": "X", "level": 0, "roll": 0.0, "read_fillet_mm": 0.15,
             "variants": [_row("base", 200.0, 700.0), gone]}  # fmt: skip
     assert "| tooth | 10 | 60 | 2.0 | 200.5 (+0.5) | - |" in report(data)
-
-
-def test_finished_variants_are_kept_only_for_the_same_inputs_and_code(monkeypatch, tmp_path):
-    import studies.driver_sizes as ds
-
-    solved = []
-
-    def fake_variant(study, name, level, roll, comm, log=None):
-        solved.append(name)
-        return {**_row(name, 200.0, 700.0), "read_fillet_mm": 0.15}
-
-    monkeypatch.setattr(ds, "solve_variant", fake_variant)
-    args = SimpleNamespace(case="1-GB", level=0, roll=0.0, variants=["base", "grid"],
-                           out=tmp_path)  # fmt: skip
-    path = ds.run(args)
-    assert solved == ["base", "grid"]
-    ds.run(args)  # the same inputs and code: nothing solved again
-    assert solved == ["base", "grid"]
-    monkeypatch.setattr(ds, "code_hash", lambda: "other")  # another code: solved afresh
-    ds.run(args)
-    assert solved == ["base", "grid"] * 2
-    assert [r["variant"] for r in ds.read_json(path)["variants"]] == ["base", "grid"]

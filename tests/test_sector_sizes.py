@@ -109,26 +109,3 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
     # a key read on another gear's sector (None) is left out; so are the LOA alias and Mz
     assert row["surface"] == {"sun": 870.0} and row["sector_dofs"] == {"sun": 7}
     assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
-
-
-def test_finished_variants_are_kept_only_for_the_same_inputs_and_code(monkeypatch, tmp_path):
-    import studies.sector_sizes as ss
-
-    solved = []
-
-    def fake_variant(study, spec, level, roll, comm, log=None):
-        solved.append(spec)
-        return _row(spec, 800.0, 700.0)
-
-    monkeypatch.setattr(ss, "solve_variant", fake_variant)
-    args = SimpleNamespace(case="1-GB", level=1, roll=0.0, variants=["2:0.15", "2:0.1"],
-                           out=tmp_path)  # fmt: skip
-    path = ss.run(args)
-    assert solved == ["2:0.15", "2:0.1"]
-    ss.run(args)  # the same inputs and code: nothing solved again
-    assert solved == ["2:0.15", "2:0.1"]
-    monkeypatch.setattr(ss, "code_hash", lambda: "other")  # another code: solved afresh
-    ss.run(args)
-    assert solved == ["2:0.15", "2:0.1"] * 2
-    assert [r["variant"] for r in ss.read_json(path)["variants"]] == ["2:0.15", "2:0.1"]
-    assert path.with_suffix(".md").is_file()

@@ -1,0 +1,43 @@
+"""The diagnostics that solve named variants in one process (studies.driver_sizes,
+studies.sector_sizes, through studies.variant_file) keep a finished variant only while the
+case's inputs and the source are those it was solved with, and write their report beside it."""
+
+from types import SimpleNamespace
+
+import pytest
+
+import studies.driver_sizes as ds
+import studies.sector_sizes as ss
+import studies.variant_file as variant_file
+from studies.files import read_json
+
+
+def _row(name):
+    return {"variant": name, "wall_s": 60.0, "peak_rss_mb": 2048.0, "read_fillet_mm": 0.15,
+            "sizes": {"fillet": 0.1}, "sector_dofs": {"sun": 10}, "dofs": 10,
+            "moments": {"My_pin": 200.0}, "surface": {"sun": 800.0},
+            "tangent": {"sun": 700.0}}  # fmt: skip
+
+
+@pytest.mark.parametrize("module, level, names", [(ds, 0, ["base", "grid"]),
+                                                  (ss, 1, ["2:0.15", "2:0.1"])])  # fmt: skip
+def test_finished_variants_are_kept_only_for_the_same_inputs_and_code(
+    module, level, names, monkeypatch, tmp_path
+):
+    solved = []
+
+    def fake_variant(study, name, level, roll, comm, log=None):
+        solved.append(name)
+        return _row(name)
+
+    monkeypatch.setattr(module, "solve_variant", fake_variant)
+    args = SimpleNamespace(case="1-GB", level=level, roll=0.0, variants=names, out=tmp_path)
+    path = module.run(args)
+    assert solved == names
+    module.run(args)  # the same inputs and code: nothing solved again
+    assert solved == names
+    monkeypatch.setattr(variant_file, "code_hash", lambda: "other")  # another code: afresh
+    module.run(args)
+    assert solved == names * 2
+    assert [r["variant"] for r in read_json(path)["variants"]] == names
+    assert path.with_suffix(".md").is_file()
