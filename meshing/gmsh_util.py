@@ -88,6 +88,7 @@ def mesh_options(gmsh) -> None:
     gmsh.option.setNumber("Mesh.Algorithm3D", 10)  # HXT: faster, better minimum quality
     gmsh.option.setNumber("Mesh.Optimize", 1)
     gmsh.option.setNumber("Mesh.ElementOrder", 1)
+    gmsh.option.setNumber("Mesh.HighOrderOptimize", 0)  # curve_elements runs it where needed
     # One thread: HXT is then deterministic (with 2 threads the same input gave a flat tet in
     # one run out of three); it is fast enough alone.
     gmsh.option.setNumber("General.NumThreads", 1)
@@ -112,9 +113,11 @@ def curve_elements(gmsh) -> dict:
     facets with a kink at every edge; the straight-sided P2 sector's ISO-line stress
     converged at an observed order of about 0.8 over 0.15 / 0.1 / 0.067 mm fillets, the
     curved one at about 2.3 (1-GB sun, level-1 driver, 2026-11-29). Curving a fine mesh on a
-    small fillet can invert tets (48 of 2.9M in 1-GB's 0.067 mm ring sector): those are
+    small fillet can invert tets (48 of the 660k of 1-GB's 0.067 mm ring sector): those are
     untangled by gmsh's high-order optimiser; :class:`MeshingError` if any stays inverted.
-    Returns the minimum scaled Jacobian (> 0: every tet valid) and whether the optimiser ran."""
+    Returns the minimum scaled Jacobian (> 0: every tet valid) and whether the optimiser ran.
+    gmsh's options are global to the process: the optimiser's is set back to what it was,
+    so a later mesh does not depend on this one (:func:`mesh_options` sets it to 0)."""
     gmsh.model.mesh.setOrder(2)
 
     def worst() -> float:
@@ -125,8 +128,12 @@ def curve_elements(gmsh) -> dict:
     q = worst()
     optimized = q <= 0.0
     if optimized:
+        kept = gmsh.option.getNumber("Mesh.HighOrderOptimize")
         gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)
-        gmsh.model.mesh.optimize("HighOrder", force=True)
+        try:
+            gmsh.model.mesh.optimize("HighOrder", force=True)
+        finally:
+            gmsh.option.setNumber("Mesh.HighOrderOptimize", kept)
         q = worst()
         if q <= 0.0:
             raise sizing.MeshingError(

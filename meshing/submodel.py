@@ -50,7 +50,9 @@ SECTOR_STEP = 1
 #: the CAD faces (:func:`meshing.gmsh_util.curve_elements`). 1-GB at roll 0 on the level-1
 #: driver, level 2's sizes, read fillets 0.15 / 0.1 / 0.0667 mm, the sun's ISO-line value
 #: (MPa): straight 822.0 / 811.2 / 803.4 (observed order 0.8), curved 816.1 / 810.0 / 807.6
-#: (order 2.3); the other keys scatter by 0.5-1 % either way (studies/sector_sizes.py).
+#: (order 2.3); the other keys oscillate by up to 1.3 % curved, 2.4 % straight, but for
+#: the pinion's sun-side surface, which converges on curved tets (order 2.0;
+#: studies/sector_sizes.py).
 #: Straight until the convergence records are solved again with curved sectors
 SUBMODEL_GEOMETRY_ORDER = 1
 
