@@ -50,6 +50,8 @@ import meshing.submodel as submodel
 from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, Level
 from meshing.submodel import SECTOR_STEP, SUBMODEL_FILLET
+from postprocess.convergence import richardson
+from postprocess.convergence_study import CG_NOISE, P_CAP
 from postprocess.paper_moments import LOA_ALIASES
 from solvers.body_store import BodyStore
 from studies.cli import InputError, guarded
@@ -127,6 +129,35 @@ def _spread(values: list[float]) -> float | None:
     return (max(values) - min(values)) / abs(mean) if mean else None
 
 
+def fillet_ladders(rows: list[dict], cols: list[tuple[str, str]]) -> list[str]:
+    """A line per value and ladder of read fillets: the rows of one set of other sizes (the
+    ``K`` of ``K:F``) and one geometry with three fillet sizes or more, the three finest
+    extrapolated as the convergence study extrapolates its sector ladder
+    (:func:`postprocess.convergence.richardson`)."""
+    groups: dict[tuple[str, int], dict[float, dict]] = {}
+    for r in rows:
+        key = (r["variant"].split(":")[0], r.get("geometry_order", 1))
+        groups.setdefault(key, {})[r["sizes"]["fillet"]] = r
+    out = []
+    for (k, order), by_f in sorted(groups.items()):
+        fillets = sorted(by_f, reverse=True)[-3:]
+        if len(fillets) < 3:
+            continue
+        name = f"level {k}'s sizes, {'curved' if order == 2 else 'straight'}"
+        for g, key in cols:
+            vals = [by_f[f][g].get(key) for f in fillets]
+            if any(v is None for v in vals):
+                continue
+            res = richardson(fillets, vals, p_cap=P_CAP, noise=CG_NOISE)
+            order_s = "-" if res.order is None else f"{res.order:.2f}"
+            ext = "-" if res.extrapolated is None else f"{res.extrapolated:.1f}"
+            u = " / ".join("-" if x is None else f"{x * 100:.2f}" for x in res.uncertainty)
+            out.append(f"- {name}, {' / '.join(f'{f:g}' for f in fillets)} mm, {key} ({g}): "
+                       f"{' / '.join(f'{v:.1f}' for v in vals)}; {res.status}, order "
+                       f"{order_s}, extrapolated {ext}, U {u} %")  # fmt: skip
+    return out
+
+
 def report(data: dict) -> str:
     """The study as markdown: per variant its values and change from the first variant, the
     spread at each read fillet size over the other sizes, and the driver check."""
@@ -175,6 +206,14 @@ def report(data: dict) -> str:
             if s is not None:
                 spreads.append(f"{k} ({g}) {s * 100:.2f} %")
         lines.append(f"- {f:g} mm ({names}): spread (max - min) / mean: " + ", ".join(spreads))
+    lines += ["", "## The read fillet's ladders", "",
+              "Per set of other sizes and geometry, the three finest read fillets: Richardson "
+              "against the fillet size (the convergence study's, order capped at 2 for the "
+              "GCI); U of each fillet in %, coarse to fine.", ""]  # fmt: skip
+    ladders = fillet_ladders(rows, cols)
+    if not ladders:
+        lines.append("No set of other sizes was solved with three read fillet sizes.")
+    lines += ladders
     moves = [abs(r["moments"][m] - first["moments"][m]) for r in rows for m in first["moments"]
              if m in r["moments"]]  # fmt: skip
     lines += ["", f"Driver check: the moments' largest change over the variants is "

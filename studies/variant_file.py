@@ -1,19 +1,28 @@
 """The run of a diagnostic that solves named variants in one process
 (:mod:`studies.driver_sizes`, :mod:`studies.sector_sizes`): a finished variant is kept while
-the file's key (the case's inputs, the source hash, the level, the roll) is the run's, and
-the file and its report are written after each variant, so a run that stops part way keeps
-what it finished."""
+the file's key is the run's (the case's inputs, the source hash, the diagnostic's own source,
+which the source hash leaves out and which says what a variant's name means, the level and
+the roll), and the file and its report are written after each variant (rank 0, the outcome
+shared with every rank), so a run that stops part way keeps what it finished."""
 
 from __future__ import annotations
 
+import hashlib
+import inspect
 from collections.abc import Callable
 from pathlib import Path
 
 from mpi4py import MPI
 
 from cases.study_case import inputs_hash
-from studies.files import atomic_write_text, read_json, write_json
+from studies.files import atomic_write_text, on_root, read_json, write_json
 from studies.provenance import code_hash
+
+
+def tool_hash(solve: Callable) -> str:
+    """A short hash of the source of the module that defines ``solve``."""
+    source = inspect.getsource(inspect.getmodule(solve))
+    return hashlib.sha256(source.encode()).hexdigest()[:16]
 
 
 def run_variants(study, out: Path, stem: str, level: int, roll: float, names: list[str],
@@ -25,7 +34,8 @@ def run_variants(study, out: Path, stem: str, level: int, roll: float, names: li
     row is kept. Returns the file's path."""
     comm = MPI.COMM_WORLD
     path = out / study.name / f"{stem}_L{level}.json"
-    key = {"inputs": inputs_hash(study), "code_hash": code_hash(), "level": level, "roll": roll}
+    key = {"inputs": inputs_hash(study), "code_hash": code_hash(), "tool": tool_hash(solve),
+           "level": level, "roll": roll}  # fmt: skip
     data = {"case": study.name, "level": level, "roll": roll, "key": key, "variants": []}
     if path.is_file():
         old = read_json(path)
@@ -46,10 +56,14 @@ def run_variants(study, out: Path, stem: str, level: int, roll: float, names: li
         if on_row is not None:
             on_row(data, row)
         data["variants"].append(row)
-        if comm.rank == 0:
+
+        def write() -> None:
             path.parent.mkdir(parents=True, exist_ok=True)
             write_json(path, data)
             atomic_write_text(path.with_suffix(".md"), report(data))
+
+        on_root(comm, write, f"writing {path}")
+        if comm.rank == 0:
             print(f"{name}: {row['wall_s']:.0f} s, peak {row['peak_rss_mb'] / 1024:.1f} GB",
                   flush=True)  # fmt: skip
     return path

@@ -12,7 +12,7 @@ import meshing.submodel as submodel
 from meshing.sizing import LEVELS
 from meshing.submodel import SUBMODEL_FILLET
 from studies.cli import InputError
-from studies.sector_sizes import default_variants, report, run, variant_sizes
+from studies.sector_sizes import default_variants, fillet_ladders, report, run, variant_sizes
 
 
 def test_a_variant_is_level_k_with_the_read_fillet_f():
@@ -109,3 +109,15 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
     # a key read on another gear's sector (None) is left out; so are the LOA alias and Mz
     assert row["surface"] == {"sun": 870.0} and row["sector_dofs"] == {"sun": 7}
     assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
+
+
+def test_the_fillet_ladders_recover_a_known_order_and_keep_geometries_apart():
+    # f = 800 + 1000 h^2 on the straight sectors: order 2, limit 800; the curved rows (one
+    # size only) and level 1's row make no ladder of their own and do not enter this one
+    rows = [_row(f"2:{h:g}", 800.0 + 1000.0 * h * h, 700.0) for h in (0.2, 0.15, 0.1, 0.0667)]
+    rows += [{**_row("2:0.1:c", 1.0, 1.0), "geometry_order": 2}, _row("1:0.1", 1.0, 1.0)]
+    lines = fillet_ladders(rows, [("surface", "sun")])
+    assert len(lines) == 1
+    line = lines[0]
+    assert line.startswith("- level 2's sizes, straight, 0.15 / 0.1 / 0.0667 mm, sun (surface)")
+    assert "monotone, order 2.00, extrapolated 800.0" in line

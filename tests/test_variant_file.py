@@ -9,7 +9,7 @@ import pytest
 import studies.driver_sizes as ds
 import studies.sector_sizes as ss
 import studies.variant_file as variant_file
-from studies.files import read_json
+from studies.files import ResultFileError, read_json
 
 
 def _row(name):
@@ -39,5 +39,16 @@ def test_finished_variants_are_kept_only_for_the_same_inputs_and_code(
     monkeypatch.setattr(variant_file, "code_hash", lambda: "other")  # another code: afresh
     module.run(args)
     assert solved == names * 2
+    monkeypatch.setattr(variant_file, "tool_hash", lambda solve: "edited")  # the tool changed
+    module.run(args)
+    assert solved == names * 3
     assert [r["variant"] for r in read_json(path)["variants"]] == names
     assert path.with_suffix(".md").is_file()
+
+
+def test_a_file_that_cannot_be_written_is_an_error_naming_it(monkeypatch, tmp_path):
+    monkeypatch.setattr(ss, "solve_variant", lambda *a, **k: _row("2:0.1"))
+    (tmp_path / "1-GB").write_text("a file where the case folder goes")
+    args = SimpleNamespace(case="1-GB", level=1, roll=0.0, variants=["2:0.1"], out=tmp_path)
+    with pytest.raises(ResultFileError, match=r"writing .*sector_sizes_L1\.json"):
+        ss.run(args)
