@@ -155,7 +155,7 @@ fillet-study: $(STAMP) ## root stress against fillet size: results/fillet/<case>
 # four 0.15 mm read sectors; the level-1 variants took 15-16 min beside another run).
 DRIVER_LEVEL ?= 0
 .PHONY: driver-sizes
-driver-sizes: $(STAMP) ## which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>.{json,md}
+driver-sizes: $(STAMP) ## which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>[_roll<roll>].{json,md}
 	$(PY) -m studies.driver_sizes --case $(or $(CASE),1-GB) --level $(DRIVER_LEVEL) \
 	  --out $(RESULTS)/convergence
 
@@ -164,10 +164,22 @@ driver-sizes: $(STAMP) ## which global size the root-stress driver error follows
 # the other sizes one level coarser and finer at one fillet size); one process, finished
 # variants kept (1-GB level 1: 5 variants, about 3 min each beside their sectors).
 SECTOR_LEVEL ?= 1
+# the K:F variants (empty: the default eight); the scatter alone: SECTOR_VARIANTS="1:0.1 2:0.1 3:0.1"
+SECTOR_VARIANTS ?=
+# the sun angle (rad) of the position read; 0 is the convergence records' position
+SECTOR_ROLL ?= 0
 .PHONY: sector-sizes
-sector-sizes: $(STAMP) ## which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>.{json,md}
+sector-sizes: $(STAMP) ## which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>[_roll<roll>].{json,md}
 	$(PY) -m studies.sector_sizes --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
+	  --roll $(SECTOR_ROLL) $(if $(SECTOR_VARIANTS),--variants $(SECTOR_VARIANTS)) \
 	  --out $(RESULTS)/convergence
+
+# The spread of sector-sizes' straight variants at one read fillet (1:0.1 2:0.1 3:0.1 at level
+# 1) kept with the case's convergence record: the floor under its root stresses' sector U.
+.PHONY: sector-scatter
+sector-scatter: $(STAMP) ## keep sector-sizes' scatter with the case's record (solves nothing): studies/records/convergence/<case>/
+	$(PY) -m studies.sector_scatter --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
+	  --roll $(SECTOR_ROLL) --out $(RESULTS)/convergence
 
 # The bodies' linear solvers (issue 13 item 5): exact MUMPS LU, block low-rank MUMPS and
 # CG/GAMG on one 1-GB position per level; time, peak memory and the change of every result.

@@ -185,7 +185,12 @@ def _split_table(conv: dict) -> list[str]:
         "at its fillet (a fillet coarser than the ladder's: the step to "
         f"{sp0['fillet_mm']:g} mm at the same driver plus the submodel's U there). Refining "
         "both at once (the columns above) mixes the two, and a coarse level's unresolved "
-        "fillet then reads as the default level's error.",
+        "fillet then reads as the default level's error. The submodel's U at each fillet is "
+        "at least the sector scatter: the spread of the case level's solution read on "
+        "sectors of other sizes at one read fillet (`make sector-sizes`, then "
+        "`make sector-scatter`; postprocess/sector_scatter.py), which a ladder that refines "
+        "every size at once can miss when its values agree by chance; `-`: not measured, "
+        "the ladder's U alone.",
         "",
         "| scalar | driver "
         + " | ".join(drv_at)
@@ -195,8 +200,8 @@ def _split_table(conv: dict) -> list[str]:
         + " | ".join(f"{f:g} mm" for f in sub_at)
         + " | status | extrapolated | U "
         + " | ".join(f"{f:g} mm" for f in sub_at)
-        + " |",
-        "|---|" + "---|" * (2 * len(drv_at) + 2 + 2 * len(sub_at) + 2),
+        + " | sector scatter |",
+        "|---|" + "---|" * (2 * len(drv_at) + 2 + 2 * len(sub_at) + 3),
     ]
     for k, sp in rows:
         d, s = sp["driver"], sp["submodel"]
@@ -209,9 +214,28 @@ def _split_table(conv: dict) -> list[str]:
             + " | ".join(f"{v:.1f}" for v in s["values"])
             + f" | {s['status']} | {_num(s['extrapolated'], 'MPa')} | "
             + " | ".join(_upct(u) for u in s["uncertainty"])
-            + " |"
+            + f" | {_upct(sp.get('sector_floor'))} |"
         )
-    return [*lines, ""]
+    return [*lines, *_scatter_lines(conv), ""]
+
+
+def _scatter_lines(conv: dict) -> list[str]:
+    """Where the sector scatter under the root stresses' U was measured."""
+    entries = conv.get("sector_scatter") or []
+    if not entries:
+        return ["", "No sector scatter is kept with this study: the submodel's U is its "
+                "ladder's alone, which may be optimistic where the ladder's values agree by "
+                "chance."]  # fmt: skip
+    lines = ["", "Sector scatter measured (the largest spread per scalar is the floor):"]
+    for e in entries:
+        used = "" if e.get("level") == conv.get("case_level") else (
+            f" (not used: the case level is {conv.get('case_level')})")  # fmt: skip
+        worst = max(e["spread"].items(), key=lambda kv: kv[1], default=None)
+        lines.append(f"- driver level {e['level']}, roll {e['roll']:g}, read fillet "
+                     f"{e['fillet_mm']:g} mm, variants {', '.join(e['variants'])}, source "
+                     f"hash {e['code_hash']}" + (f"; largest {worst[0]} {worst[1]:.2%}"
+                     if worst else "") + used)  # fmt: skip
+    return lines
 
 
 def _runs_code(conv: dict) -> list[str]:

@@ -46,6 +46,7 @@ from postprocess.convergence import (
 )
 from postprocess.paper_moments import DIFFERENTIALS
 from postprocess.run_scalars import run_label, scalar_kind, unit
+from postprocess.sector_scatter import scatter_floors
 
 P_CAP = 2.0
 # Edge values, not targets: contact-grid edge points, cell peaks, the root stress within
@@ -155,7 +156,8 @@ def _ladder_record(res, labels_or_sizes, values) -> dict:
     }
 
 
-def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: float = 0.0):
+def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: float = 0.0,
+                      floor: float | None = None):  # fmt: skip
     """The error of a root stress read on a submodel (:mod:`solvers.root_submodel`), split
     into its two sources, or None where the runs do not hold the two ladders
     (:func:`studies.convergence.submodel_levels`):
@@ -166,7 +168,9 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
     * submodel: the submodel's level (the whole sector refined), at the fixed driver of the
       case's level: f_D and the two sectors read with it, the two finer ones where they
       exist (Richardson over the three against the read fillet size, the stress
-      concentration's own length; a P2 submodel, order capped at 2).
+      concentration's own length; a P2 submodel, order capped at 2), its U at each fillet
+      at least ``floor``, the scatter between equally valid sectors where it was measured
+      (:mod:`postprocess.sector_scatter`; None: not measured, the ladder's U alone).
 
     Separable errors: the extrapolated value X = D_ext S_ext / v_D (D_ext, S_ext the two
     ladders' limits, v_D the case level's value); per run g of own fillet f_g the
@@ -201,6 +205,8 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
         drv = two_grid(h_drv, drv_vals, DRIVER_ORDER, zero_scale=zero_scale)
     sub = richardson(sizes, sub_vals, p_cap=P_CAP, zero_scale=zero_scale, noise=CG_NOISE)
     u_sub = dict(zip(sizes, sub.uncertainty, strict=True))
+    if floor is not None:  # the scatter between equally valid sectors
+        u_sub = {f: None if u is None else max(u, floor) for f, u in u_sub.items()}
     v_d = sub_vals[sizes.index(f_d)]
     ext = None
     if drv.extrapolated is not None and sub.extrapolated is not None and abs(v_d) > zero_scale:
@@ -221,7 +227,8 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
         "order": None,
         "extrapolated": ext,
         "gci_order": None,
-        "note": f"driver {drv.status}, submodel {sub.status}",
+        "note": f"driver {drv.status}, submodel {sub.status}, "
+        + ("sector scatter not measured" if floor is None else f"sector scatter {floor:.2%}"),
         "rel_error": err,
         "uncertainty": unc,
         "uncertainty_abs": {
@@ -233,6 +240,7 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
         "split": {
             "driver": _ladder_record(drv, labels, drv_vals),
             "submodel": _ladder_record(sub, sizes, sub_vals),
+            "sector_floor": floor,
             "fillet_mm": f_d,
         },
     }
@@ -247,14 +255,18 @@ def ladder(rows: list[dict], degree: int = 1) -> tuple[list[dict], list[dict]]:
 
 
 def scalar_table(
-    rows: list[dict], degree: int = 1, case_level: int | None = None
+    rows: list[dict],
+    degree: int = 1,
+    case_level: int | None = None,
+    floors: Mapping[str, float] | None = None,
 ) -> dict[str, dict]:
     """Per scalar key (those every ladder run has): values, status, observed order,
     extrapolated value, and per run label the relative error, relative and absolute
     uncertainty (see the module docstring); the root stresses read on submodels split into
     the driver's and the submodel's error where the runs hold both ladders
     (:func:`root_stress_split`; ``case_level``: the level of the case, whose run holds the
-    submodel ladder)."""
+    submodel ladder; ``floors``: per root stress the scatter between equally valid sectors,
+    under the submodel ladder's U, :func:`postprocess.sector_scatter.scatter_floors`)."""
     lad, others = ladder(rows, degree)
     if not lad:
         return {}
@@ -279,7 +291,8 @@ def scalar_table(
             entry.update(target=None, near_zero=True)
         split = None
         if case_level is not None and key.startswith(SPLIT_PREFIXES):
-            split = root_stress_split(lad, key, case_level, zero_scale=zs)
+            split = root_stress_split(lad, key, case_level, zero_scale=zs,
+                                      floor=(floors or {}).get(key))  # fmt: skip
         if split is not None:
             entry.update(split)
             for r in others:  # another degree: against X, else the spread with the ladder
@@ -483,11 +496,15 @@ def reduce_study(conv: dict) -> dict:
     (:func:`scalar_table`) and ``recommendation`` (:func:`recommend`), made by today's code
     from its stored ``runs``. The reductions are outside the
     source hash (:mod:`postprocess.run_scalars`), so a fix to them takes effect on every
-    stored study, recorded or not, without solving a run again. A study without
-    ``case_level`` (written before 2026-11-28) is returned as stored."""
+    stored study, recorded or not, without solving a run again. The root stresses' sector
+    U is at least the scatter kept in the study's ``sector_scatter``
+    (:mod:`postprocess.sector_scatter`). A study without ``case_level`` (written before
+    2026-11-28) is returned as stored."""
     if "case_level" not in conv or not isinstance(conv.get("runs"), list):
         return conv
-    table = scalar_table(conv["runs"], conv.get("ladder_degree", 1), conv["case_level"])
+    floors = scatter_floors(conv.get("sector_scatter") or [], conv["case_level"])
+    table = scalar_table(conv["runs"], conv.get("ladder_degree", 1), conv["case_level"],
+                         floors=floors)  # fmt: skip
     return {**conv, "scalars": table, "recommendation": recommend(conv["runs"], table)}
 
 

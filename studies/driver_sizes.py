@@ -22,8 +22,9 @@ this study changes one at a time from level ``L`` towards level ``L + 1``:
 and reads every variant's root stresses on the sector of level 1 (0.15 mm read fillets,
 :func:`meshing.submodel.submodel_level`), so only the driver differs. Each variant's change
 from ``base`` against ``next``'s says which size the driver's error follows. One process
-solves the variants in turn; a finished variant is kept in ``<out>/<case>/driver_sizes_L<L>.json``
-(written after each) and not solved again while the case's inputs
+solves the variants in turn; a finished variant is kept in
+``<out>/<case>/driver_sizes_L<L>.json`` (``_roll<roll>`` added off roll 0; written after
+each) and not solved again while the case's inputs
 (:func:`cases.study_case.inputs_hash`), the source hash (:func:`studies.provenance.code_hash`),
 the level and the roll are those it was solved with; otherwise the file starts afresh.
 :func:`studies.position.solve_position` also reads each variant on the sectors of its own

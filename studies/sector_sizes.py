@@ -27,7 +27,8 @@ that keeps nothing (the same matrix and right-hand side each time, so the same d
 report gives the moments' largest change over the variants as a check); it also reads the
 case level's own sectors (its default), a cost this study does not use (1-GB level 1: about
 65 s for the global solve and 130 s for the own sectors per variant). A finished variant is
-kept in ``<out>/<case>/sector_sizes_L<L>.json`` (written after each) while the case's inputs
+kept in ``<out>/<case>/sector_sizes_L<L>.json`` (``_roll<roll>`` added off roll 0; written
+after each) while the case's inputs
 (:func:`cases.study_case.inputs_hash`), the source hash (:func:`studies.provenance.code_hash`),
 the level and the roll are those it was solved with; otherwise the file starts afresh.
 Serial. Exit status 0, 2 invalid input, 3 a file could not be written. A diagnostic: it
@@ -53,6 +54,7 @@ from meshing.submodel import SECTOR_STEP, SUBMODEL_FILLET
 from postprocess.convergence import richardson
 from postprocess.convergence_study import CG_NOISE, P_CAP
 from postprocess.paper_moments import LOA_ALIASES
+from postprocess.sector_scatter import GROUP_PREFIX, other_size_spreads
 from solvers.body_store import BodyStore
 from studies.cli import InputError, guarded
 from studies.memory import peak_rss_mb
@@ -121,14 +123,6 @@ def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> 
             "tangent": {k: bs["tangent"][k] for k in keys}}  # fmt: skip
 
 
-def _spread(values: list[float]) -> float | None:
-    """(max - min) / |mean| of ``values`` (None for fewer than two)."""
-    if len(values) < 2:
-        return None
-    mean = sum(values) / len(values)
-    return (max(values) - min(values)) / abs(mean) if mean else None
-
-
 def fillet_ladders(rows: list[dict], cols: list[tuple[str, str]]) -> list[str]:
     """A line per value and ladder of read fillets: the rows of one set of other sizes (the
     ``K`` of ``K:F``) and one geometry with three fillet sizes or more, the three finest
@@ -189,23 +183,16 @@ def report(data: dict) -> str:
         dofs = max(r["sector_dofs"].values(), default=0)
         lines.append(f"| {r['variant']} | {dofs} | {r['wall_s']:.0f} | "
                      f"{r['peak_rss_mb'] / 1024:.1f} | " + " | ".join(cells) + " |")  # fmt: skip
-    # the other sizes' scatter: variants of one read fillet size, over their levels
-    by_fillet: dict[float, list[dict]] = {}
-    for r in rows:
-        if r.get("geometry_order", 1) == 1:  # straight sectors: the other sizes alone differ
-            by_fillet.setdefault(r["sizes"]["fillet"], []).append(r)
-    shared = {f: rs for f, rs in by_fillet.items() if len(rs) > 1}
+    # the other sizes' scatter: straight variants of one read fillet size, over their levels
+    shared = other_size_spreads(rows)
     lines += ["", "## The other sizes at one read fillet", ""]
     if not shared:
         lines.append("No read fillet size was solved with more than one set of other sizes.")
-    for f, rs in sorted(shared.items()):
-        names = ", ".join(r["variant"] for r in rs)
-        spreads = []
-        for g, k in cols:
-            s = _spread([r[g][k] for r in rs if r[g].get(k) is not None])
-            if s is not None:
-                spreads.append(f"{k} ({g}) {s * 100:.2f} %")
-        lines.append(f"- {f:g} mm ({names}): spread (max - min) / mean: " + ", ".join(spreads))
+    for f, sc in shared.items():
+        spreads = [f"{k} ({g}) {sc['spread'][GROUP_PREFIX[g] + k] * 100:.2f} %"
+                   for g, k in cols if GROUP_PREFIX[g] + k in sc["spread"]]  # fmt: skip
+        lines.append(f"- {f:g} mm ({', '.join(sc['variants'])}): spread (max - min) / mean: "
+                     + ", ".join(spreads))  # fmt: skip
     lines += ["", "## The read fillet's ladders", "",
               "Per set of other sizes and geometry, the three finest read fillets: Richardson "
               "against the fillet size (the convergence study's, order capped at 2 for the "

@@ -25,15 +25,22 @@ def tool_hash(solve: Callable) -> str:
     return hashlib.sha256(source.encode()).hexdigest()[:16]
 
 
+def variant_path(out: Path, case: str, stem: str, level: int, roll: float) -> Path:
+    """``<out>/<case>/<stem>_L<level>.json``, tagged ``_roll<roll>`` for a position other than
+    roll 0 (the convergence records'), so that each position keeps its own file."""
+    tag = "" if roll == 0 else f"_roll{roll:.6g}"
+    return out / case / f"{stem}_L{level}{tag}.json"
+
+
 def run_variants(study, out: Path, stem: str, level: int, roll: float, names: list[str],
                  solve: Callable, report: Callable[[dict], str],
                  on_row: Callable[[dict, dict], None] | None = None) -> Path:  # fmt: skip
-    """Solve the variants ``names`` not yet in ``<out>/<case>/<stem>_L<level>.json`` with
+    """Solve the variants ``names`` not yet in their file (:func:`variant_path`) with
     ``solve(study, name, level, roll, comm, log)`` (a row with ``wall_s`` and
     ``peak_rss_mb``), in turn; ``on_row(data, row)`` may add to the file's head before the
     row is kept. Returns the file's path."""
     comm = MPI.COMM_WORLD
-    path = out / study.name / f"{stem}_L{level}.json"
+    path = variant_path(out, study.name, stem, level, roll)
     key = {"inputs": inputs_hash(study), "code_hash": code_hash(), "tool": tool_hash(solve),
            "level": level, "roll": roll}  # fmt: skip
     data = {"case": study.name, "level": level, "roll": roll, "key": key, "variants": []}

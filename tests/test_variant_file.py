@@ -52,3 +52,23 @@ def test_a_file_that_cannot_be_written_is_an_error_naming_it(monkeypatch, tmp_pa
     args = SimpleNamespace(case="1-GB", level=1, roll=0.0, variants=["2:0.1"], out=tmp_path)
     with pytest.raises(ResultFileError, match=r"writing .*sector_sizes_L1\.json"):
         ss.run(args)
+
+
+def test_each_position_keeps_its_own_file(monkeypatch, tmp_path):
+    """A run at another roll neither replaces nor takes the variants of roll 0's file."""
+    solved = []
+
+    def fake_variant(study, name, level, roll, comm, log=None):
+        solved.append((name, roll))
+        return _row(name)
+
+    monkeypatch.setattr(ss, "solve_variant", fake_variant)
+    at = {r: SimpleNamespace(case="1-GB", level=1, roll=r, variants=["2:0.1"], out=tmp_path)
+          for r in (0.0, 0.0718078)}  # fmt: skip
+    first = ss.run(at[0.0])
+    second = ss.run(at[0.0718078])
+    assert first.name == "sector_sizes_L1.json"
+    assert second.name == "sector_sizes_L1_roll0.0718078.json"
+    assert solved == [("2:0.1", 0.0), ("2:0.1", 0.0718078)]
+    ss.run(at[0.0])  # roll 0's variants are still kept
+    assert len(solved) == 2 and read_json(first)["roll"] == 0.0

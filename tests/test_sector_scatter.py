@@ -1,0 +1,182 @@
+"""The scatter of a root stress between equally valid sectors (postprocess.sector_scatter) puts
+a floor under the sector part of its U (postprocess.convergence_study.root_stress_split), and
+studies.sector_scatter keeps it with a convergence record only for the record's inputs, case
+level and position. Nothing here solves anything."""
+
+import shutil
+
+import pytest
+
+from cases.study_case import inputs_hash, load_study_case
+from meshing.sizing import LEVELS
+from meshing.submodel import submodel_level
+from postprocess.convergence_study import reduce_study, scalar_table
+from postprocess.sector_scatter import other_size_spreads, scatter_floors, spread
+from studies.cli import EXIT_INVALID_INPUT
+from studies.files import read_json, write_json
+from studies.sector_scatter import main, record_scatter
+from studies.uncertainty import RECORDS
+
+
+def _variant(name, fillet, sun, ring_tangent, order=1):
+    return {"variant": name, "geometry_order": order, "sizes": {"fillet": fillet},
+            "surface": {"sun": sun, "ring": 600.0}, "tangent": {"sun": sun - 50.0,
+            "ring": ring_tangent}}  # fmt: skip
+
+
+ROWS = [
+    _variant("2:0.15", 0.15, 867.3, 636.5),
+    _variant("2:0.1", 0.1, 877.0, 634.4),
+    _variant("1:0.1", 0.1, 866.4, None),  # a location whose ISO point was not read
+    _variant("3:0.1", 0.1, 864.6, 633.3),
+    _variant("2:0.1:c", 0.1, 700.0, 500.0, order=2),  # curved: another geometry, left out
+]
+
+
+def test_the_spread_is_taken_over_the_straight_variants_of_one_read_fillet():
+    out = other_size_spreads(ROWS)
+    assert list(out) == [0.1]  # 0.15 mm was read on one set of other sizes only
+    assert out[0.1]["variants"] == ["2:0.1", "1:0.1", "3:0.1"]
+    s = out[0.1]["spread"]
+    sun = [877.0, 866.4, 864.6]  # (max - min) / mean, by hand: 12.4 / 869.33
+    assert s["bending_stress.sun"] == pytest.approx(12.4 / (sum(sun) / 3), rel=1e-12)
+    assert s["bending_stress_tangent.sun"] == pytest.approx(12.4 / (sum(sun) / 3 - 50.0))
+    assert s["bending_stress.ring"] == 0.0  # the same value on every sector
+    # the ring's ISO point on two of the three sectors: their spread
+    assert s["bending_stress_tangent.ring"] == pytest.approx(1.1 / 633.85, rel=1e-12)
+    assert spread([1.0]) is None and spread([0.0, 0.0]) is None
+    assert list(other_size_spreads(ROWS, geometry_order=2)) == []
+
+
+def test_the_floor_is_the_largest_spread_of_the_case_level():
+    entries = [{"level": 1, "spread": {"a": 0.01, "b": 0.03}},
+               {"level": 1, "spread": {"a": 0.02}},
+               {"level": 2, "spread": {"a": 0.5, "c": 0.5}}]  # fmt: skip
+    assert scatter_floors(entries, 1) == {"a": 0.02, "b": 0.03}
+    assert scatter_floors(entries, 2) == {"a": 0.5, "c": 0.5}
+    assert scatter_floors([], 1) == {}
+
+
+def _rows() -> list[dict]:
+    """Ladder runs at levels 0-2 whose sector ladder (0.15 / 0.1 / 0.08 mm, read on level 1's
+    driver) agrees to 0.2 % by chance: its U is far below a 3 % scatter."""
+    sub = {0.15: 800.0, 0.1: 801.0, 0.08: 800.4}
+    rows = []
+    for level in (0, 1, 2):
+        h, f = LEVELS[level].fine, submodel_level(level).fillet
+        drv = 800.0 * (1.0 - 0.02 * h * h)
+        extra = (0.1, 0.08) if level == 1 else (0.15,)
+        rows.append({
+            "label": f"L{level}P1", "level": level, "degree": 1, "dofs": int(2e5 / h**3),
+            "h_mm": {"fine": h, "fillet": f}, "grid_points_total": 100,
+            "time_s": {"total": 10.0, "factorization": 1.0, "compliance": 1.0},
+            "peak_rss_mb": 1024.0,
+            "scalars": {"bending_stress.ring": drv * sub.get(f, 799.0) / 800.0},
+            "fillet_scalars": {f"{x:g}": {"bending_stress.ring": drv * sub[x] / 800.0}
+                               for x in extra},
+        })  # fmt: skip
+    return rows
+
+
+def test_a_scatter_above_the_ladder_raises_the_sector_u_and_one_below_changes_nothing():
+    rows, key = _rows(), "bending_stress.ring"
+    bare = scalar_table(rows, case_level=1)[key]
+    assert bare["split"]["sector_floor"] is None and "not measured" in bare["note"]
+    u_sub = bare["split"]["submodel"]["uncertainty"]
+    assert max(u_sub) < 0.01  # the three sectors agree: a small ladder U
+    floored = scalar_table(rows, case_level=1, floors={key: 0.03})[key]
+    assert floored["split"]["sector_floor"] == 0.03 and "sector scatter 3.00%" in floored["note"]
+    assert floored["extrapolated"] == bare["extrapolated"]  # the value is not touched
+    assert floored["split"]["submodel"] == bare["split"]["submodel"]  # the ladder's own U kept
+    for lab in ("L1P1", "L2P1"):  # on the ladder: the driver's U + the floor
+        drv = bare["uncertainty"][lab] - u_sub[("L1P1", "L2P1").index(lab)]
+        assert floored["uncertainty"][lab] == pytest.approx(drv + 0.03, rel=1e-12)
+    # level 0's coarser sector: the step to the case's sector + the floored U there
+    assert floored["uncertainty"]["L0P1"] == pytest.approx(
+        bare["uncertainty"]["L0P1"] - u_sub[0] + 0.03, rel=1e-12
+    )
+    low = scalar_table(rows, case_level=1, floors={key: 1e-6})[key]
+    assert low["uncertainty"] == bare["uncertainty"]
+
+
+def test_a_study_is_reduced_with_the_scatter_of_its_case_level_only():
+    rows = _rows()
+    conv = {"case_level": 1, "ladder_degree": 1, "runs": rows}
+    u = reduce_study(conv)["scalars"]["bending_stress.ring"]["uncertainty"]["L1P1"]
+    other = {**conv, "sector_scatter": [{"level": 2, "spread": {"bending_stress.ring": 0.05}}]}
+    assert reduce_study(other)["scalars"]["bending_stress.ring"]["uncertainty"]["L1P1"] == u
+    own = {**conv, "sector_scatter": [{"level": 1, "spread": {"bending_stress.ring": 0.05}}]}
+    assert reduce_study(own)["scalars"]["bending_stress.ring"]["uncertainty"]["L1P1"] > u + 0.04
+
+
+# ------------------------------------------------------------ keeping it with the record
+def _setup(tmp_path, **key):
+    """A copy of 1-GB's record and a sector_sizes file of its case level and roll."""
+    records, out = tmp_path / "records", tmp_path / "out"
+    shutil.copytree(RECORDS / "1-GB", records / "1-GB")
+    study = load_study_case("1-GB")
+    sizes = {"case": "1-GB", "level": 1, "roll": 0.0,
+             "key": {"inputs": inputs_hash(study), "code_hash": "abc", "level": 1, "roll": 0.0},
+             "variants": ROWS}  # fmt: skip
+    sizes.update(key)
+    (out / "1-GB").mkdir(parents=True)
+    write_json(out / "1-GB" / "sector_sizes_L1.json", sizes)
+    return records, out
+
+
+def test_the_scatter_is_kept_with_the_record_and_raises_its_root_stress_u(tmp_path):
+    records, out = _setup(tmp_path)
+    before = read_json(records / "1-GB" / "convergence.json")
+    u0 = before["scalars"]["bending_stress.sun"]["uncertainty"]["L1P1"]
+    path = record_scatter("1-GB", 1, out, records)
+    rec = read_json(path)
+    (entry,) = rec["sector_scatter"]
+    assert (entry["level"], entry["roll"], entry["fillet_mm"]) == (1, 0.0, 0.1)
+    assert entry["code_hash"] == "abc" and entry["geometry_order"] == 1
+    s = entry["spread"]["bending_stress.sun"]
+    sp = rec["scalars"]["bending_stress.sun"]["split"]
+    assert sp["sector_floor"] == s
+    # the record's sector U at its own 0.15 mm fillet was below the scatter: now the floor
+    assert max(sp["submodel"]["uncertainty"]) < s
+    drv = sp["driver"]["uncertainty"][sp["driver"]["at"].index("L1P1")]
+    assert rec["scalars"]["bending_stress.sun"]["uncertainty"]["L1P1"] == pytest.approx(drv + s)
+    assert rec["scalars"]["bending_stress.sun"]["uncertainty"]["L1P1"] > u0
+    assert rec["runs"] == before["runs"] and rec["reproduced"] == before["reproduced"]
+    report = (records / "1-GB" / "report.md").read_text()
+    assert "Sector scatter measured" in report and "source hash abc" in report
+    # measured again: the entry of the same level, roll and fillet replaced, not added
+    record_scatter("1-GB", 1, out, records)
+    assert len(read_json(path)["sector_scatter"]) == 1
+    # another position with a larger scatter of the sun: a second entry, and the floor
+    sizes = read_json(out / "1-GB" / "sector_sizes_L1.json")
+    sizes["roll"] = 0.0718
+    sizes["variants"][1]["surface"]["sun"] = 900.0
+    write_json(out / "1-GB" / "sector_sizes_L1.json", sizes)
+    rec = read_json(record_scatter("1-GB", 1, out, records))
+    assert [e["roll"] for e in rec["sector_scatter"]] == [0.0, 0.0718]
+    wider = rec["sector_scatter"][1]["spread"]["bending_stress.sun"]
+    assert wider > s and rec["scalars"]["bending_stress.sun"]["split"]["sector_floor"] == wider
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"key": {"inputs": "other", "code_hash": "abc"}}, "other inputs"),
+    ({"variants": ROWS[:2]}, "more than one set of other sizes"),
+])  # fmt: skip
+def test_a_file_that_does_not_belong_to_the_record_is_refused(tmp_path, capsys, change, words):
+    records, out = _setup(tmp_path, **change)
+    rec = (records / "1-GB" / "convergence.json").read_text()
+    code = main(["--case", "1-GB", "--level", "1", "--out", str(out), "--records", str(records)])
+    err = capsys.readouterr().err
+    assert code == EXIT_INVALID_INPUT and words in err and "Traceback" not in err
+    assert (records / "1-GB" / "convergence.json").read_text() == rec  # untouched
+
+
+def test_another_level_or_a_missing_file_is_refused(tmp_path, capsys):
+    records, out = _setup(tmp_path)
+    shutil.copy(out / "1-GB" / "sector_sizes_L1.json", out / "1-GB" / "sector_sizes_L2.json")
+    argv = ["--case", "1-GB", "--out", str(out), "--records", str(records)]
+    assert main([*argv, "--level", "2"]) == EXIT_INVALID_INPUT
+    assert "the record of 1-GB is of case level 1" in capsys.readouterr().err
+    assert main([*argv, "--level", "0"]) == EXIT_INVALID_INPUT
+    err = capsys.readouterr().err
+    assert "run make sector-sizes CASE=1-GB SECTOR_LEVEL=0 SECTOR_ROLL=0 first" in err
