@@ -352,6 +352,12 @@ def parse_study_case(
         numerics = Numerics(**n)
     except CaseError as exc:
         raise CaseError(f"{source}: {exc}") from exc
+    if "zone_gap_limit_um" in n and numerics.contact_model != "zone":  # never ignored silently
+        raise CaseError(
+            f"{source}: numerics.zone_gap_limit_um: only for contact_model = 'zone' (where its "
+            f"grid is laid); the {numerics.contact_model!r} model lays its points on the "
+            "theoretical contact lines: remove it or choose 'zone'"
+        )
     s = check_keys(data.get("system", {}), _names(System), source, "system")
     if s and model.scene != "system":  # read by the system scene only: never ignored silently
         raise CaseError(

@@ -52,7 +52,6 @@ written.
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import platform
 import shutil
@@ -70,7 +69,7 @@ from studies.cli import InputError, guarded
 from studies.files import ResultFileError, read_json, write_json
 from studies.memory import mem_available_gb
 from studies.position_runs import print_row, run_child, solve_run
-from studies.provenance import code_hash, git_revision
+from studies.provenance import code_hash, git_revision, utc_stamp
 from studies.uncertainty import RECORDS, STUDY_FILE, failed_runs, match_key, recorded
 
 LADDER_DEGREE = 1
@@ -260,7 +259,7 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
     dest = records / conv["case"]
     dest.mkdir(parents=True, exist_ok=True)
     rec = {**conv, "recorded": {
-        "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"),
+        "date": utc_stamp(),
         "git_revision": git_revision(),
     }}  # fmt: skip
     write_json(dest / STUDY_FILE, rec)
@@ -329,7 +328,7 @@ def reproduce(args) -> dict:
     (folder / "runs").mkdir(parents=True, exist_ok=True)
     row = _one_run(args, case, args.reproduce, LADDER_DEGREE, folder)
     _say(row)
-    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    now = utc_stamp()
     entry = {"run": label, "code_hash": code_hash(), "git_revision": git_revision(), "date": now}
     if "error" in row:
         entry.update(error=row["error"], scalars=0, identical=0)

@@ -23,6 +23,7 @@ effect on every record without solving its runs again (the scalars a run records
 from __future__ import annotations
 
 import ast
+import datetime
 import functools
 import hashlib
 import importlib.metadata
@@ -110,6 +111,11 @@ def code_hash() -> str:
 
 
 @functools.cache
+def utc_stamp() -> str:
+    """Now, as the records date what they keep: ``YYYY-MM-DD HH:MM UTC``."""
+    return datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+
+
 def git_revision() -> str | None:
     """``<commit>`` (``+dirty`` with uncommitted changes), or None outside a git checkout."""
     try:

@@ -27,7 +27,6 @@ scatter between sector sizes is a property of the meshes, which that hash names.
 from __future__ import annotations
 
 import argparse
-import datetime
 import sys
 from pathlib import Path
 
@@ -36,7 +35,7 @@ from postprocess.sector_scatter import other_size_spreads
 from studies.cli import InputError, guarded
 from studies.convergence import reduce_records
 from studies.files import read_json, write_json
-from studies.provenance import git_revision
+from studies.provenance import git_revision, utc_stamp
 from studies.uncertainty import RECORDS, STUDY_FILE
 from studies.variant_file import variant_path
 
@@ -44,7 +43,7 @@ from studies.variant_file import variant_path
 def scatter_entries(sizes: dict) -> list[dict]:
     """The record entries of a ``sector_sizes`` file: one per read fillet with a spread."""
     key = sizes["key"]
-    date = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    date = utc_stamp()
     return [
         {"level": sizes["level"], "roll": sizes["roll"], "fillet_mm": f,
          "variants": s["variants"], "geometry_order": 1, "code_hash": key["code_hash"],

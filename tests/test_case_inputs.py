@@ -61,6 +61,21 @@ def test_study_case_unknown_keys(path, match):
         parse_study_case(data, "1-GB.toml")
 
 
+def test_a_zone_gap_limit_with_the_line_model_is_refused_not_ignored():
+    """The "line" model lays no zone grid, so a gap limit given with it would change nothing
+    while the user believed it set; the "zone" model takes it, and an omitted one is fine."""
+    data = _case_raw()
+    data["numerics"].update(contact_model="line", zone_gap_limit_um=20.0)
+    with pytest.raises(CaseError) as info:
+        parse_study_case(data, "1-GB.toml")
+    assert str(info.value).startswith("1-GB.toml: numerics.zone_gap_limit_um: only for "
+                                      "contact_model = 'zone'")  # fmt: skip
+    del data["numerics"]["zone_gap_limit_um"]
+    assert parse_study_case(data, "1-GB.toml").numerics.contact_model == "line"
+    data["numerics"].update(contact_model="zone", zone_gap_limit_um=20.0)
+    assert parse_study_case(data, "1-GB.toml").numerics.zone_gap_limit_um == 20.0
+
+
 def test_typo_gear_modulus_factor_is_refused_not_run_as_steel(tmp_path):
     text = (CASE_DIR / "1-GB-R.toml").read_text()
     assert "gear_modulus_factor = 10.0" in text
