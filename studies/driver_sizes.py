@@ -27,10 +27,9 @@ solves the variants in turn; a finished variant is kept in
 each) and not solved again while the case's inputs
 (:func:`cases.study_case.inputs_hash`), the source hash (:func:`studies.provenance.code_hash`),
 the level and the roll are those it was solved with; otherwise the file starts afresh.
-:func:`studies.position.solve_position` also reads each variant on the sectors of its own
-sizes (its default read, at a level given as sizes), which this study does not use: a cost,
-not a result (the sector lines it prints show both; 1-GB level-0 base: 31 s of its 436 s,
-the four 0.15 mm read sectors 356 s). Serial. Exit status 0, 2 invalid input,
+Each variant reads the read sectors only (``own_sectors=False``; before 2026-11-30 it also
+read the sectors of its own sizes, 31 s of 1-GB's level-0 base of 436 s, the four 0.15 mm
+read sectors 356 s). Serial. Exit status 0, 2 invalid input,
 3 a file could not be written. A diagnostic: it asserts nothing.
 """
 
@@ -87,7 +86,7 @@ def solve_variant(study, name: str, level: int, roll: float, comm, log=None) -> 
     # before the sectors and each sector after its reading (a keeping store held the global
     # factors and all twelve of 2B-GA's level-1 sectors: 22.3 GB, then killed at 23.2 GB)
     out = solve_position(study, roll, comm, level=sizes, spacing=spacing,
-                         submodel_levels=(READ_LEVEL,), sector_log=log,
+                         submodel_levels=(READ_LEVEL,), own_sectors=False, sector_log=log,
                          store=BodyStore(reuse=False))  # fmt: skip
     read = out["bending_stress_fillets"]
     bs = next(iter(read.values()))

@@ -109,6 +109,7 @@ def solve_position(
     scene_options: dict | None = None,
     store: BodyStore | None = None,
     submodel_levels: tuple[int, ...] = (),
+    own_sectors: bool = True,
     sector_log: Callable[[str], None] | None = None,
 ) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
@@ -124,8 +125,10 @@ def solve_position(
     ``submodel_levels``: read the root stress also on the submodels of these global levels
     (their sectors, :func:`meshing.submodel.submodel_level`) at the same
     global solution, in ``bending_stress_fillets`` keyed by the read fillet size (``"%g"``):
-    the submodel ladder of a convergence study (:mod:`studies.convergence`); ``sector_log``:
-    called with a line per root-stress sector solved (a ladder run's log; every rank)."""
+    the submodel ladder of a convergence study (:mod:`studies.convergence`); ``own_sectors``:
+    False skips the read on the level's own sectors (``bending_stress`` None, for a
+    diagnostic that reads ``submodel_levels`` only); ``sector_log``: called with a line per
+    root-stress sector solved (a ladder run's log; every rank)."""
     store = BodyStore() if store is None else store
     store.begin_position()
     num = study.numerics
@@ -168,7 +171,7 @@ def solve_position(
     sector = None
     if num.root_stress == "submodel" and micro is None:
         sector = cycle_sector_teeth(study, roll, spacing, width, scene_options)
-    if num.root_stress == "submodel":
+    if num.root_stress == "submodel" and own_sectors:
         bs = submodel_root_stress(model, result, level, store, sector=sector, log=sector_log)
         if refined:  # the global model's own value beside it, a check
             check = root_stress(model, result)

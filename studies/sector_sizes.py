@@ -24,9 +24,9 @@ so the read fillet's ladder (systematic, the other sizes fixed) is seen apart fr
 scatter that the other sizes give at one fillet size: what an equally valid sector would
 read. Each variant is one :func:`studies.position.solve_position` of its own, with a store
 that keeps nothing (the same matrix and right-hand side each time, so the same driver; the
-report gives the moments' largest change over the variants as a check); it also reads the
-case level's own sectors (its default), a cost this study does not use (1-GB level 1: about
-65 s for the global solve and 130 s for the own sectors per variant). A finished variant is
+report gives the moments' largest change over the variants as a check), reading the variant's
+sectors only (``own_sectors=False``; before 2026-11-30 each variant also read the case
+level's own sectors, about 130 s of a 1-GB level-1 variant). A finished variant is
 kept in ``<out>/<case>/sector_sizes_L<L>.json`` (``_roll<roll>`` added off roll 0; written
 after each) while the case's inputs
 (:func:`cases.study_case.inputs_hash`), the source hash (:func:`studies.provenance.code_hash`),
@@ -106,7 +106,8 @@ def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> 
     submodel.SUBMODEL_GEOMETRY_ORDER = order  # read when a sector body is made
     try:
         out = solve_position(study, roll, comm, level=level, submodel_levels=(sizes,),
-                             sector_log=log, store=BodyStore(reuse=False))  # fmt: skip
+                             own_sectors=False, sector_log=log,
+                             store=BodyStore(reuse=False))  # fmt: skip
     finally:
         submodel.SUBMODEL_GEOMETRY_ORDER = kept
     bs = next(iter(out["bending_stress_fillets"].values()))

@@ -312,6 +312,25 @@ def test_branch_parallel_equals_serial():
     assert MPI.COMM_WORLD.allreduce(1) == MPI.COMM_WORLD.size
 
 
+def test_a_position_may_read_other_sectors_only(ga):
+    """``own_sectors=False`` (the sector diagnostics): nothing read on the level's own
+    sectors, and the same sectors asked for through ``submodel_levels`` read what the own
+    read does (the same driver, sector mesh, loads and first guess)."""
+    from meshing.submodel import submodel_level
+
+    only = solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1,
+                          submodel_levels=(0,), own_sectors=False)  # fmt: skip
+    assert only["bending_stress"] is None
+    read, own = (
+        only["bending_stress_fillets"][f"{submodel_level(0).fillet:g}"],
+        ga["bending_stress"],
+    )
+    assert set(read["locations"]) == set(own["locations"])
+    for k in own["locations"]:
+        assert read[k] == pytest.approx(own[k], rel=1e-6), k
+        assert read["tangent"][k] == pytest.approx(own["tangent"][k], rel=1e-6), k
+
+
 def test_root_stress_at_loaded_fillets(ga):
     """FE root stress (solvers.root_submodel) at the loaded fillets.
 
