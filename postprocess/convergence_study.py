@@ -295,11 +295,13 @@ def scalar_table(
                                       floor=(floors or {}).get(key))  # fmt: skip
         if split is not None:
             entry.update(split)
+            floor = split["split"]["sector_floor"] or 0.0  # its sector scatters as well
             for r in others:  # another degree: against X, else the spread with the ladder
                 if key in r["scalars"]:
                     lab, v = run_label(r["level"], r["degree"]), r["scalars"][key]
                     x = split["extrapolated"]
                     u_abs = SAFETY * abs(v - x) if x is not None else max(*f, v) - min(*f, v)
+                    u_abs = max(u_abs, floor * abs(v))
                     entry["rel_error"][lab] = None if x is None else (v - x) / abs(x)
                     entry["uncertainty_abs"][lab] = u_abs
                     entry["uncertainty"][lab] = u_abs / abs(v) if abs(v) > zs else None

@@ -99,6 +99,16 @@ def test_a_scatter_above_the_ladder_raises_the_sector_u_and_one_below_changes_no
     assert low["uncertainty"] == bare["uncertainty"]
 
 
+def test_a_run_of_another_degree_on_the_same_sectors_takes_the_floor_too():
+    rows, key = _rows(), "bending_stress.ring"
+    p2 = {**rows[0], "label": "L0P2", "degree": 2, "fillet_scalars": {},
+          "scalars": {key: rows[1]["scalars"][key]}}  # fmt: skip
+    bare = scalar_table([*rows, p2], case_level=1)[key]["uncertainty"]["L0P2"]
+    assert bare < 0.02  # the spread of the ladder's values with it
+    floored = scalar_table([*rows, p2], case_level=1, floors={key: 0.05})[key]
+    assert floored["uncertainty"]["L0P2"] == pytest.approx(0.05, rel=1e-12)
+
+
 def test_a_study_is_reduced_with_the_scatter_of_its_case_level_only():
     rows = _rows()
     conv = {"case_level": 1, "ladder_degree": 1, "runs": rows}
