@@ -163,7 +163,7 @@ driver-sizes: $(STAMP) ## which global size the root-stress driver error follows
 # SECTOR_LEVEL read on sectors of other sizes (the read fillet alone refined by 1.5 twice, and
 # the other sizes one level coarser and finer at one fillet size, and the read fillet's ladder
 # on curved tets); one process, finished variants kept (1-GB level 1: 8 variants, 4-14 min
-# each; the three of the scatter 15.5 min, 2B-GA's about 25 min).
+# each; the three of the scatter 15.5 min, 2B-GA's 22.5 min).
 SECTOR_LEVEL ?= 1
 # the K:F variants (empty: the default eight); the scatter alone: SECTOR_VARIANTS="1:0.1 2:0.1 3:0.1"
 SECTOR_VARIANTS ?=
