@@ -13,6 +13,7 @@ from meshing.submodel import submodel_level
 from postprocess.convergence_study import reduce_study, scalar_table
 from postprocess.sector_scatter import other_size_spreads, scatter_floors, spread
 from studies.cli import EXIT_INVALID_INPUT
+from studies.convergence import reduce_records
 from studies.files import read_json, write_json
 from studies.sector_scatter import main, record_scatter
 from studies.uncertainty import RECORDS
@@ -121,9 +122,13 @@ def test_a_study_is_reduced_with_the_scatter_of_its_case_level_only():
 
 # ------------------------------------------------------------ keeping it with the record
 def _setup(tmp_path, **key):
-    """A copy of 1-GB's record and a sector_sizes file of its case level and roll."""
+    """A copy of 1-GB's record without the scatter kept with it, reduced so, and a
+    sector_sizes file of its case level and roll."""
     records, out = tmp_path / "records", tmp_path / "out"
     shutil.copytree(RECORDS / "1-GB", records / "1-GB")
+    path = records / "1-GB" / "convergence.json"
+    write_json(path, {k: v for k, v in read_json(path).items() if k != "sector_scatter"})
+    reduce_records(records)
     study = load_study_case("1-GB")
     sizes = {"case": "1-GB", "level": 1, "roll": 0.0,
              "key": {"inputs": inputs_hash(study), "code_hash": "abc", "level": 1, "roll": 0.0},
