@@ -110,12 +110,12 @@ def code_hash() -> str:
     return h.hexdigest()[:16]
 
 
-@functools.cache
 def utc_stamp() -> str:
     """Now, as the records date what they keep: ``YYYY-MM-DD HH:MM UTC``."""
     return datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
 
 
+@functools.cache
 def git_revision() -> str | None:
     """``<commit>`` (``+dirty`` with uncommitted changes), or None outside a git checkout."""
     try:

@@ -100,3 +100,21 @@ def test_the_hash_follows_a_covered_module_and_ignores_a_report(tmp_path, monkey
         assert fresh_hash() != base
     finally:
         code_hash.cache_clear()
+
+
+def test_the_records_stamp_follows_the_clock(monkeypatch):
+    """A long process (a ladder, then its record and reproduction) dates each entry when it
+    is written, not when the first stamp was asked for."""
+    import datetime as dt
+
+    times = iter([dt.datetime(2026, 11, 30, 1, 5, tzinfo=dt.UTC),
+                  dt.datetime(2026, 11, 30, 3, 40, tzinfo=dt.UTC)])  # fmt: skip
+
+    class Clock(dt.datetime):
+        @classmethod
+        def now(cls, tz=None):
+            return next(times)
+
+    monkeypatch.setattr(provenance.datetime, "datetime", Clock)
+    assert provenance.utc_stamp() == "2026-11-30 01:05 UTC"
+    assert provenance.utc_stamp() == "2026-11-30 03:40 UTC"
