@@ -17,8 +17,9 @@ from the record (:mod:`postprocess.sector_scatter`). Solves nothing.
 A measurement at another position (``make sector-sizes SECTOR_ROLL=...``) adds an entry: the
 floor is the largest spread over every position measured, whether or not the record's ladder
 was solved there (the scatter is the sectors', and the reports print the cycle's maximum).
-Refused, naming the field, where the file was solved from other inputs than today's case
-file or on another driver level than the record's case level. A file solved by other code
+Refused, naming the field, where the file or the record's run of that level was solved from
+other inputs than today's case file, or on another driver level than the record's case
+level. A file solved by other code
 than the record's runs is taken, and its source hash kept and printed beside the scatter: the
 scatter between sector sizes is a property of the meshes, which that hash names. Exit status
 0, 2 invalid input, 3 a file could not be read or written.
@@ -70,6 +71,11 @@ def record_scatter(case: str, level: int, out: Path, records: Path = RECORDS,
     if sizes.get("key", {}).get("inputs") != inputs_hash(study):
         raise InputError(f"{src}: solved from other inputs than today's case file "
                          f"{study.name}; run make sector-sizes again")  # fmt: skip
+    solved = {(r.get("reuse_key") or {}).get("inputs_hash") for r in conv["runs"]
+              if r.get("level") == level}  # fmt: skip
+    if solved != {inputs_hash(study)}:
+        raise InputError(f"--case {study.name}: the record's level-{level} run was solved from "
+                         "other inputs than today's case file; record it again first")  # fmt: skip
     if level != conv.get("case_level"):
         raise InputError(f"--level {level}: the record of {study.name} is of case level "
                          f"{conv.get('case_level')}; its sector ladder is read on that "

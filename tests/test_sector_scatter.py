@@ -186,6 +186,21 @@ def test_a_file_that_does_not_belong_to_the_record_is_refused(tmp_path, capsys, 
     assert (records / "1-GB" / "convergence.json").read_text() == rec  # untouched
 
 
+def test_a_record_solved_from_other_inputs_is_refused(tmp_path, capsys):
+    """The bearing and the load are not in a record's match key, so a case file changed
+    since its record still finds it; the scatter of today's inputs does not go under it."""
+    records, out = _setup(tmp_path)
+    path = records / "1-GB" / "convergence.json"
+    rec = read_json(path)
+    for run in rec["runs"]:
+        run["reuse_key"]["inputs_hash"] = "other"
+    write_json(path, rec)
+    argv = ["--case", "1-GB", "--out", str(out), "--records", str(records)]
+    assert main(argv) == EXIT_INVALID_INPUT
+    assert "level-1 run was solved from other inputs" in capsys.readouterr().err
+    assert "sector_scatter" not in read_json(path)
+
+
 def test_another_level_or_a_missing_file_is_refused(tmp_path, capsys):
     records, out = _setup(tmp_path)
     shutil.copy(out / "1-GB" / "sector_sizes_L1.json", out / "1-GB" / "sector_sizes_L2.json")
