@@ -98,6 +98,7 @@ import ufl
 from gears.iso6336_root import fillet_tangent_point
 from gears.train import mesh_side_keys
 from meshing import tags as tagnames
+from solvers.surface_recovery import fillet_coordinates, fillet_curve, recover, strip_spacings
 
 REF_VERTICES = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
 INSIDE = 1e-6  # barycentric tolerance of "the facet under a point"
@@ -375,8 +376,60 @@ def body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]],
                    tangent_z_mm=zk, tangent_surface_offset_mm=dmax)  # fmt: skip
         cells_v = [c[(t, s)] for c in cell_all for (t, s) in c if t in teeth]
         rec["cell_max"] = max(cells_v) if cells_v else None
+        rec["recovered"] = recovered_maxima(gear, groups, gsel, nodes, tensors, facets,
+                                            ~end & ~near, z)  # fmt: skip
         out[key] = rec
     return out
+
+
+def recovered_maxima(gear, groups, gsel, nodes, tensors, facets, usable, z) -> dict:
+    """The surface maximum and ISO line maximum of the moving least-squares recovery
+    (:mod:`solvers.surface_recovery`) over the fillet groups ``gsel``, from their ``usable``
+    nodes (interior, off the point forces' near field) and at the line's axial positions
+    ``z``: values (MPa), tooth, side, z and radius as in :func:`body_root_stress`, and the
+    strip spacings (h_s, h_z) of the group of the surface maximum. None where no strip
+    gives a posed fit."""
+    rec = dict(value=None, tooth=None, side=None, z_mm=None, radius_mm=None, tangent=None,
+               tangent_tooth=None, tangent_side=None, tangent_z_mm=None, h_s_mm=None,
+               h_z_mm=None)  # fmt: skip
+    if not gsel:
+        return rec
+    curve = fillet_curve(gear)
+    p = np.asarray(fillet_tangent_point(gear)["point"], float)
+    s_iso = float(fillet_coordinates(gear, 0, "pos", np.array([[p[0], p[1], 0.0]]), curve)[0, 0])
+    gid = nodes[:, 0].astype(np.int64)
+    best_s, best_t = -np.inf, -np.inf
+    for g in gsel:
+        t, side, _ = groups[g]
+        idx = np.flatnonzero((gid == g) & usable)
+        local = np.full(len(nodes), -1, np.int64)
+        local[idx] = np.arange(len(idx))
+        tri = local[facets[facets[:, 0] == g, 1:]]
+        tri = tri[(tri >= 0).all(axis=1)]
+        if not len(tri):
+            continue
+        sz = fillet_coordinates(gear, t, side, nodes[idx, 1:4], curve)
+        h_s, h_z = strip_spacings(sz, tri)
+        at_nodes = recover(sz, tensors[idx], sz, h_s, h_z)
+        ok = np.flatnonzero(np.isfinite(at_nodes).all(axis=(1, 2)))
+        s1 = max_principal(at_nodes[ok]) if ok.size else np.zeros(0)
+        k = int(ok[np.argmax(s1)]) if ok.size else -1
+        if ok.size and s1.max() > best_s:
+            best_s = float(s1.max())
+            x = nodes[idx[k], 1:4]
+            rec.update(value=best_s, tooth=int(t), side=side, z_mm=float(x[2]),
+                       radius_mm=float(np.linalg.norm(x[:2])), h_s_mm=h_s, h_z_mm=h_z)  # fmt: skip
+        at = np.c_[np.full(len(z), s_iso), z]
+        lt = recover(sz, tensors[idx], at, h_s, h_z)
+        ok = np.isfinite(lt).all(axis=(1, 2))
+        if ok.any():
+            v = max_principal(lt[ok])
+            j = int(np.argmax(v))
+            if v[j] > best_t:
+                best_t = float(v[j])
+                rec.update(tangent=best_t, tangent_tooth=int(t), tangent_side=side,
+                           tangent_z_mm=float(at[ok][j, 1]))  # fmt: skip
+    return rec
 
 
 def root_stress(model, result) -> dict:

@@ -452,9 +452,10 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         canon = [(t - start) % z for t in teeth[key]]
         forces_at = loads[0] @ _turn(angle)  # canonical frame: (Q^T x)^T = x^T Q
         rec = body_root_stress(sub, u, gear, {key: canon}, load_points=forces_at)[key]
-        for k in ("tooth", "tangent_tooth"):  # canonical sector -> the gear's teeth
-            if rec[k] is not None:
-                rec[k] = int((rec[k] + start) % z)
+        for r in (rec, rec["recovered"]):  # canonical sector -> the gear's teeth
+            for k in ("tooth", "tangent_tooth"):
+                if r[k] is not None:
+                    r[k] = int((r[k] + start) % z)
         rec["teeth"] = list(teeth[key])
         rec["load_N"] = load_n[key]
         rec["submodel"] = {

@@ -112,6 +112,7 @@ def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> 
         submodel.SUBMODEL_GEOMETRY_ORDER = kept
     bs = next(iter(out["bending_stress_fillets"].values()))
     keys = [k for k in bs["locations"] if bs[k] is not None]
+    rec = {k: bs["locations"][k]["recovered"] for k in keys}
     return {"variant": spec, "wall_s": time.perf_counter() - t0, "peak_rss_mb": peak_rss_mb(),
             "geometry_order": order,
             "sizes": {"fine": sizes.fine, "fillet": sizes.fillet, "tooth": sizes.tooth,
@@ -121,7 +122,9 @@ def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> 
             "moments": {k: v for k, v in out.items() if k.startswith(MOMENT_PREFIXES)
                         and k not in LOA_ALIASES and isinstance(v, float)},
             "surface": {k: bs[k] for k in keys},
-            "tangent": {k: bs["tangent"][k] for k in keys}}  # fmt: skip
+            "tangent": {k: bs["tangent"][k] for k in keys},
+            "surface_recovered": {k: rec[k]["value"] for k in keys},
+            "tangent_recovered": {k: rec[k]["tangent"] for k in keys}}  # fmt: skip
 
 
 def fillet_ladders(rows: list[dict], cols: list[tuple[str, str]]) -> list[str]:
@@ -140,7 +143,7 @@ def fillet_ladders(rows: list[dict], cols: list[tuple[str, str]]) -> list[str]:
             continue
         name = f"level {k}'s sizes, {'curved' if order == 2 else 'straight'}"
         for g, key in cols:
-            vals = [by_f[f][g].get(key) for f in fillets]
+            vals = [by_f[f].get(g, {}).get(key) for f in fillets]
             if any(v is None for v in vals):
                 continue
             res = richardson(fillets, vals, p_cap=P_CAP, noise=CG_NOISE)
@@ -168,15 +171,15 @@ def report(data: dict) -> str:
     if not rows:
         return "\n".join([*lines, "No variant solved yet."]) + "\n"
     first = rows[0]
-    cols = [("surface", k) for k in first["surface"]]
-    cols += [("tangent", k) for k in first["tangent"] if first["tangent"][k] is not None]
+    cols = [(g, k) for g in GROUP_PREFIX for k in first.get(g, {})
+            if first[g][k] is not None]  # fmt: skip
     head = [f"{k} ({g})" for g, k in cols]
     lines += ["| variant | sector DOFs (largest) | wall (s) | peak (GB) | " + " | ".join(head)
               + " |", "|---|---|---|---|" + "---|" * len(cols)]  # fmt: skip
     for r in rows:
         cells = []
         for g, k in cols:
-            v, v0 = r[g].get(k), first[g][k]
+            v, v0 = r.get(g, {}).get(k), first[g][k]
             if v is None:
                 cells.append("-")
                 continue

@@ -108,3 +108,6 @@ def test_root_stress_parallel_equals_serial():
             assert got == pytest.approx(want, rel=5e-4), (key, q)
         for q in ("tooth", "side", "tangent_tooth", "tangent_side"):
             assert par["locations"][key][q] == ser["locations"][key][q], (key, q)
+        rp, rs = par["locations"][key]["recovered"], ser["locations"][key]["recovered"]
+        for q in ("value", "tangent"):  # the recovery of the same values (5e-4 as above)
+            assert rp[q] == pytest.approx(rs[q], rel=5e-4), (key, "recovered", q)

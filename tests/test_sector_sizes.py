@@ -94,7 +94,9 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
             "sun": 870.0,
             "ring": None,
             "tangent": {"sun": 820.0, "ring": None},
-            "locations": {"sun": {"submodel": {"dofs": 7}}, "ring": {"read_instead": "x"}},
+            "locations": {"sun": {"submodel": {"dofs": 7},
+                                  "recovered": {"value": 860.0, "tangent": 815.0}},
+                          "ring": {"read_instead": "x"}},  # fmt: skip
         }
         return {"dofs": 5, "Mx_SP": 1.0, "M_LOA_sun_SP": 2.0, "M_LOA_SP_SUN": 2.0,
                 "Mz_SP": 1e-13, "bending_stress_fillets": {"0.1": bs}}  # fmt: skip
@@ -108,6 +110,8 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
     assert seen["order"] == 2 and submodel.SUBMODEL_GEOMETRY_ORDER == 1
     # a key read on another gear's sector (None) is left out; so are the LOA alias and Mz
     assert row["surface"] == {"sun": 870.0} and row["sector_dofs"] == {"sun": 7}
+    assert row["surface_recovered"] == {"sun": 860.0}  # solvers.surface_recovery's, beside
+    assert row["tangent_recovered"] == {"sun": 815.0}
     assert row["moments"] == {"Mx_SP": 1.0, "M_LOA_SP_SUN": 2.0}
 
 
@@ -121,3 +125,18 @@ def test_the_fillet_ladders_recover_a_known_order_and_keep_geometries_apart():
     line = lines[0]
     assert line.startswith("- level 2's sizes, straight, 0.15 / 0.1 / 0.0667 mm, sun (surface)")
     assert "monotone, order 2.00, extrapolated 800.0" in line
+
+
+def test_recovered_values_get_columns_and_spreads_beside_the_nodal_ones():
+    """Rows since 2026-11-30 carry the recovered values (solvers.surface_recovery): the report
+    gives them columns and spreads of their own; a row of an older file, without them, is a
+    dash in those columns and leaves the spread to the rows that have them."""
+    rows = [{**_row(f"{k}:0.1", 800.0 + k, 700.0), "surface_recovered": {"sun": v},
+             "tangent_recovered": {"sun": v - 20.0}}
+            for k, v in ((1, 780.0), (2, 790.0))]  # fmt: skip
+    rows.append(_row("3:0.1", 803.0, 700.0))
+    text = report({"case": "X", "level": 1, "roll": 0.0, "variants": rows})
+    assert "sun (surface_recovered)" in text and "sun (tangent_recovered)" in text
+    assert "sun (surface_recovered) 1.27 %" in text  # (790 - 780) / 785 over the two rows
+    assert "sun (surface) 0.25 %" in text  # (803 - 801) / 802 over all three
+    assert "| 3:0.1 | 1000 | 60 | 2.0 | 803.0 (+0.25) | 700.0 (+0.00) | - | - |" in text
