@@ -60,8 +60,11 @@ EDGE_PATTERNS = (
     "bending_stress_near_load.",
 )
 # Checks, not targets: the global model's own fillet values beside a submodel's
-# (solvers.root_submodel) and the largest fillet cell value (a cell's mean, below the surface).
-CHECK_PATTERNS = ("bending_stress_global.", "bending_stress_cell.")
+# (solvers.root_submodel), the largest fillet cell value (a cell's mean, below the surface)
+# and, until the records hold their ladders, the recovered fillet values
+# (solvers.surface_recovery, read since 2026-11-30 beside the nodal ones the reports quote).
+CHECK_PATTERNS = ("bending_stress_global.", "bending_stress_cell.", "bending_stress_recovered.",
+                  "bending_stress_tangent_recovered.")  # fmt: skip
 
 
 def target(key: str) -> float | None:
@@ -127,7 +130,8 @@ def _noise(row: dict, key: str) -> float:
 
 #: the root-stress keys read on submodels, whose error splits into the driver's (the global
 #: model's level) and the submodel's (its fillet size): :func:`root_stress_split`
-SPLIT_PREFIXES = ("bending_stress.", "bending_stress_tangent.")
+SPLIT_PREFIXES = ("bending_stress.", "bending_stress_tangent.", "bending_stress_recovered.",
+                  "bending_stress_tangent_recovered.")  # fmt: skip
 #: the formal order of the driver's part of a submodel's root stress (the two-grid GCI): the
 #: submodel sees the global model only through its displacement at the cut (P1: O(h^2)) and
 #: the contact forces (integrals over the flanks, like the moments, O(h^2); observed 3.7-4.2

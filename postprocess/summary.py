@@ -119,7 +119,10 @@ def cycle_bending(records: list[dict]) -> dict:
     surface value (``bending_stress``), of the value on ISO's 30 / 60 deg line
     (``bending_stress_tangent``), of the largest P1 cell value (``bending_stress_cell``) and
     of the surface value within the face-end band (``bending_stress_face_end``), of the
-    value kept apart beside a contact point force (``bending_stress_near_load``), with
+    value kept apart beside a contact point force (``bending_stress_near_load``), of the
+    surface and ISO-line values of the moving least-squares recovery
+    (``bending_stress_recovered``, ``bending_stress_tangent_recovered``,
+    :mod:`solvers.surface_recovery`; runs before 2026-11-30 have none), with
     submodels (:mod:`solvers.root_submodel`) also of the global model's own surface value
     (``bending_stress_global``, a check), the method in words (``bending_stress_method``),
     and where the surface maximum sits (``bending_stress_at``: position index, roll, tooth,
@@ -153,6 +156,12 @@ def cycle_bending(records: list[dict]) -> dict:
     out["bending_stress_near_load"], _ = best(
         lambda b, k: ((b.get("locations") or {}).get(k) or {}).get("near_load")
     )
+
+    def recovered(b, k, q):
+        return (((b.get("locations") or {}).get(k) or {}).get("recovered") or {}).get(q)
+
+    out["bending_stress_recovered"], _ = best(lambda b, k: recovered(b, k, "value"))
+    out["bending_stress_tangent_recovered"], _ = best(lambda b, k: recovered(b, k, "tangent"))
     out["bending_stress_method"] = recs[0][1]["bending_stress"].get("method")
     if any(r["bending_stress"].get("global") for _, r in recs):  # read on submodels
         out["bending_stress_global"], _ = best(lambda b, k: (b.get("global") or {}).get(k))

@@ -58,11 +58,16 @@ def _time_split(positions: list[dict]) -> dict[str, float]:
     }
 
 
+#: the summary's root-stress groups a submodel ladder run keeps per read fillet size
+FILLET_SCALARS = ("bending_stress", "bending_stress_tangent", "bending_stress_recovered",
+                  "bending_stress_tangent_recovered")  # fmt: skip
+
+
 def fillet_scalars(solved: list[dict]) -> dict[str, dict[str, float]]:
     """Per submodel fillet size of the positions' ``bending_stress_fillets``
     (:func:`studies.position.solve_position`), the root-stress scalars as a summary holds
-    them (``bending_stress.<key>``, ``bending_stress_tangent.<key>``: maxima over the
-    positions, :func:`postprocess.summary.cycle_bending`)."""
+    them (``bending_stress.<key>``, ``bending_stress_tangent.<key>`` and their recovered
+    counterparts: maxima over the positions, :func:`postprocess.summary.cycle_bending`)."""
     sizes = sorted({f for p in solved for f in (p.get("bending_stress_fillets") or {})}, key=float)
     out = {}
     for f in sizes:
@@ -71,7 +76,7 @@ def fillet_scalars(solved: list[dict]) -> dict[str, dict[str, float]]:
         cyc = cycle_bending(recs)
         out[f] = {
             f"{name}.{k}": float(v)
-            for name in ("bending_stress", "bending_stress_tangent")
+            for name in FILLET_SCALARS
             for k, v in (cyc.get(name) or {}).items()
             if v is not None
         }

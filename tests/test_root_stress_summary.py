@@ -96,6 +96,24 @@ def test_report_sections_print_fe_beside_iso():
     assert "| | ring | 450 |" in text  # no uncertainty for it: no ±
 
 
+def test_recovered_values_are_carried_over_the_cycle():
+    """The recovered surface and ISO-line values (solvers.surface_recovery) are maxima over
+    the positions like the nodal ones; a position from before them adds nothing, and runs
+    with none give None per key."""
+    recs = [_pos(0.0, 500.0, 300.0, (480.0, 290.0), (400.0, 250.0)),
+            _pos(0.1, 520.0, 310.0, (470.0, 280.0), (410.0, 260.0)),
+            _pos(0.2, 530.0, 305.0, (475.0, 285.0), (405.0, 255.0))]  # fmt: skip
+    for r, (sun, ring) in zip(recs[:2], ((490.0, 295.0), (505.0, 290.0)), strict=True):
+        locs = r["bending_stress"]["locations"]
+        locs["sun"]["recovered"] = {"value": sun, "tangent": sun - 20.0}
+        locs["ring"]["recovered"] = {"value": ring, "tangent": None}
+    out = cycle_bending(recs)
+    assert out["bending_stress_recovered"] == {"sun": 505.0, "ring": 295.0}
+    assert out["bending_stress_tangent_recovered"] == {"sun": 485.0, "ring": None}
+    old = cycle_bending(recs[2:])
+    assert old["bending_stress_recovered"] == {"sun": None, "ring": None}
+
+
 def test_a_value_kept_apart_beside_a_load_is_reported():
     """The largest fillet value within one element of a contact point force
     (solvers.root_stress near_load) is carried over the cycle and named in the report where

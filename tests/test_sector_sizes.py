@@ -94,9 +94,10 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
             "sun": 870.0,
             "ring": None,
             "tangent": {"sun": 820.0, "ring": None},
-            "locations": {"sun": {"submodel": {"dofs": 7},
-                                  "recovered": {"value": 860.0, "tangent": 815.0}},
-                          "ring": {"read_instead": "x"}},  # fmt: skip
+            "locations": {
+                "sun": {"submodel": {"dofs": 7}, "recovered": {"value": 860.0, "tangent": 815.0}},
+                "ring": {"read_instead": "x"},
+            },
         }
         return {"dofs": 5, "Mx_SP": 1.0, "M_LOA_sun_SP": 2.0, "M_LOA_SP_SUN": 2.0,
                 "Mz_SP": 1e-13, "bending_stress_fillets": {"0.1": bs}}  # fmt: skip
