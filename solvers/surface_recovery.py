@@ -33,12 +33,14 @@ Where the window holds fewer than two nodes beyond 0.3 h_s on either side of s0 
 edges), the quadratic term is dropped (a one-sided quadratic extrapolates); a fit that is
 still underdetermined or ill-conditioned gives NaN, and the caller keeps the nodal value.
 
-Measured (exploratory, 2026-11-30, the captured sectors of ``make sector-sizes``; 1-GB on the
-level-1 driver at mid-cycle, (max - min) / mean over levels 1 / 2 / 3's sizes at 0.1 mm,
-nodal -> recovered): ISO lines sun 1.23 -> 1.17, pinion sun side 0.86 -> 0.81, ring side
-0.94 -> 1.04, ring 4.63 -> 1.64 %; surface maxima 0.75 / 0.62 / 1.68 / 0.88 -> 0.78 / 0.92 /
-1.42 / 1.03 %. The recovered values lie 0-4 % below the nodal ones: the nodal maxima are
-maxima of scattered values and carry the scatter's upper half.
+Measured (2026-11-30, the sectors of ``make sector-sizes`` captured and read again; 1-GB on
+the level-1 driver at mid-cycle, (max - min) / mean over levels 1 / 2 / 3's sizes at 0.1 mm,
+nodal -> recovered): ISO lines sun 1.23 -> 1.22, pinion sun side 0.86 -> 0.81, ring side
+0.94 -> 1.06, ring 4.63 -> 1.64 %; surface maxima 0.75 / 0.62 / 1.68 / 0.88 -> 0.78 / 0.92 /
+1.42 / 1.03 %. Windows of 1.5-3 spacings across and 3-6 along read within about 1 % of
+these; a fit linear across the profile cut the peaks by 2-5 %. The recovered values lie
+0.3-4 % below the nodal ones: the nodal maxima are maxima of scattered values and carry
+the scatter's upper half.
 
 Pure numpy; the same inputs give the same values on every rank.
 """
