@@ -66,6 +66,10 @@ MOMENT_PREFIXES = ("Mx_", "My_", "M_LOA_")
 #: the fillet-only ladder's ratio and the read fillet sizes (mm) a variant may ask for
 RATIO = 1.5
 FILLET_RANGE = (0.03, 1.0)
+#: the report's heading of each value group (:data:`postprocess.sector_scatter.GROUP_PREFIX`)
+GROUP_TITLE = {"surface": "Surface maximum, nodal", "tangent": "ISO line, nodal",
+               "surface_recovered": "Surface maximum, recovered (solvers.surface_recovery)",
+               "tangent_recovered": "ISO line, recovered"}  # fmt: skip
 
 
 def default_variants(level: int) -> list[str]:
@@ -173,20 +177,26 @@ def report(data: dict) -> str:
     first = rows[0]
     cols = [(g, k) for g in GROUP_PREFIX for k in first.get(g, {})
             if first[g][k] is not None]  # fmt: skip
-    head = [f"{k} ({g})" for g, k in cols]
-    lines += ["| variant | sector DOFs (largest) | wall (s) | peak (GB) | " + " | ".join(head)
-              + " |", "|---|---|---|---|" + "---|" * len(cols)]  # fmt: skip
+    lines += ["| variant | sector DOFs (largest) | wall (s) | peak (GB) |", "|---|---|---|---|"]
     for r in rows:
-        cells = []
-        for g, k in cols:
-            v, v0 = r.get(g, {}).get(k), first[g][k]
-            if v is None:
-                cells.append("-")
-                continue
-            cells.append(f"{v:.1f}" if r is first else f"{v:.1f} ({(v / v0 - 1) * 100:+.2f})")
         dofs = max(r["sector_dofs"].values(), default=0)
         lines.append(f"| {r['variant']} | {dofs} | {r['wall_s']:.0f} | "
-                     f"{r['peak_rss_mb'] / 1024:.1f} | " + " | ".join(cells) + " |")  # fmt: skip
+                     f"{r['peak_rss_mb'] / 1024:.1f} |")  # fmt: skip
+    for g in GROUP_PREFIX:  # a table per reading: the nodal and the recovered values
+        keys = [k for gg, k in cols if gg == g]
+        if not keys:
+            continue
+        head = "| variant | " + " | ".join(keys) + " |"
+        lines += ["", f"### {GROUP_TITLE[g]} (MPa)", "", head, "|---|" + "---|" * len(keys)]
+        for r in rows:
+            cells = []
+            for k in keys:
+                v, v0 = r.get(g, {}).get(k), first[g][k]
+                if v is None:
+                    cells.append("-")
+                    continue
+                cells.append(f"{v:.1f}" if r is first else f"{v:.1f} ({(v / v0 - 1) * 100:+.2f})")
+            lines.append(f"| {r['variant']} | " + " | ".join(cells) + " |")
     # the other sizes' scatter: straight variants of one read fillet size, over their levels
     shared = other_size_spreads(rows)
     lines += ["", "## The other sizes at one read fillet", ""]
