@@ -183,6 +183,29 @@ def involute_normal(gear: GearSpec, xyz, side: str) -> np.ndarray:
     return out / np.linalg.norm(out, axis=-1, keepdims=True)
 
 
+def polyline_foot(curve: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Foot points of the points q (n, 2) on the polyline ``curve`` (m, 2): for each point
+    the index j of the nearest segment and the parameter w in [0, 1] along it, the foot
+    being curve[j] + w (curve[j + 1] - curve[j]). Segments of zero length are skipped;
+    the points go in chunks of about 2e6 point-segment pairs."""
+    curve = np.asarray(curve, float)
+    seg = np.diff(curve, axis=0)
+    seg_len2 = np.einsum("ij,ij->i", seg, seg)
+    index = np.flatnonzero(seg_len2 > 0.0)
+    a, seg, seg_len2 = curve[index], seg[index], seg_len2[index]
+    q = np.asarray(q, float).reshape(-1, 2)
+    j, w = np.empty(len(q), np.int64), np.empty(len(q))
+    chunk = max(1, 2_000_000 // len(seg))
+    for i in range(0, len(q), chunk):
+        d = q[i : i + chunk, None, :] - a
+        dot = np.einsum("pij,ij->pi", d, seg)
+        t = np.clip(dot / seg_len2, 0.0, 1.0)
+        dist2 = np.einsum("pij,pij->pi", d, d) - t * (2.0 * dot - t * seg_len2)
+        k = np.argmin(dist2, axis=1)
+        j[i : i + chunk], w[i : i + chunk] = index[k], t[np.arange(len(k)), k]
+    return j, w
+
+
 def fillet_deviation(gear: GearSpec, xyz, side: str, n_samples: int = 2000) -> np.ndarray:
     """Signed normal distance (mm, + outside the material) of points xyz (..., 3) from the
     root surface on the ``side`` of the nearest tooth: its generated fillet and the half root
@@ -202,26 +225,15 @@ def fillet_deviation(gear: GearSpec, xyz, side: str, n_samples: int = 2000) -> n
     fillet = gear.fillet_envelope(np.linspace(0.0, gear.fillet_end, n_samples))
     land = np.linspace(-math.pi / gear.teeth, math.atan2(fillet[0, 1], fillet[0, 0]), 64)[:-1]
     curve = np.vstack([gear.root_radius * np.c_[np.cos(land), np.sin(land)], fillet])
-    a, seg = curve[:-1], np.diff(curve, axis=0)
-    seg_len2 = np.einsum("ij,ij->i", seg, seg)
-    keep = seg_len2 > 0.0
-    a, seg, seg_len2 = a[keep], seg[keep], seg_len2[keep]
+    j, w = polyline_foot(curve, q)
+    seg = np.diff(curve, axis=0)[j]
+    foot = curve[j] + w[:, None] * seg
+    tangent = seg / np.linalg.norm(seg, axis=1)[:, None]
+    # Outward normal: the body lies left of the root -> form direction on the neg side
+    # of an external gear, right of it on an internal gear.
+    n_t = gear.sigma * np.c_[tangent[:, 1], -tangent[:, 0]]
+    d_t = np.einsum("ij,ij->i", q - foot, n_t)
+    c_cross_n = foot[:, 0] * n_t[:, 1] - foot[:, 1] * n_t[:, 0]
     k = float(gear.helix_rotation(1.0))
-    out = np.empty(len(q))
-    chunk = max(1, 2_000_000 // len(seg))
-    for i in range(0, len(q), chunk):
-        p = q[i : i + chunk]
-        d = p[:, None, :] - a
-        dot = np.einsum("pij,ij->pi", d, seg)
-        w = np.clip(dot / seg_len2, 0.0, 1.0)
-        dist2 = np.einsum("pij,pij->pi", d, d) - w * (2.0 * dot - w * seg_len2)
-        j = np.argmin(dist2, axis=1)
-        foot = a[j] + w[np.arange(len(j)), j][:, None] * seg[j]
-        tangent = seg[j] / np.sqrt(seg_len2[j])[:, None]
-        # Outward normal: the body lies left of the root -> form direction on the neg side
-        # of an external gear, right of it on an internal gear.
-        n_t = gear.sigma * np.c_[tangent[:, 1], -tangent[:, 0]]
-        d_t = np.einsum("ij,ij->i", p - foot, n_t)
-        c_cross_n = foot[:, 0] * n_t[:, 1] - foot[:, 1] * n_t[:, 0]
-        out[i : i + chunk] = d_t / np.sqrt(1.0 + (k * c_cross_n) ** 2)
+    out = d_t / np.sqrt(1.0 + (k * c_cross_n) ** 2)
     return out.reshape(rho.shape)

@@ -53,7 +53,7 @@ import math
 
 import numpy as np
 
-from gears.profile import tooth_profile
+from gears.profile import polyline_foot, tooth_profile
 
 #: window half-widths in node spacings: across the fillet profile (the quadratic fit needs
 #: at least five nodes, two either side) and along the face width
@@ -88,16 +88,8 @@ def fillet_coordinates(gear, tooth: int, side: str, xyz: np.ndarray, curve=None)
         ang = -ang
     r = np.hypot(x[:, 0], x[:, 1])
     q = np.c_[r * np.cos(ang), r * np.sin(ang)]
-    a, seg = pts[:-1], np.diff(pts, axis=0)
-    seg_len2 = np.einsum("ij,ij->i", seg, seg)
-    s = np.empty(len(q))
-    for i in range(0, len(q), 2048):
-        d = q[i : i + 2048, None, :] - a
-        t = np.clip(np.einsum("pij,ij->pi", d, seg) / seg_len2, 0.0, 1.0)
-        dist2 = ((d - t[..., None] * seg) ** 2).sum(axis=2)
-        k = np.argmin(dist2, axis=1)
-        rows = np.arange(len(k))
-        s[i : i + 2048] = arc[k] + t[rows, k] * np.sqrt(seg_len2[k])
+    j, w = polyline_foot(pts, q)
+    s = arc[j] + w * (arc[j + 1] - arc[j])
     return np.c_[s, x[:, 2]]
 
 
@@ -136,8 +128,10 @@ def recover(sz: np.ndarray, tensors: np.ndarray, at: np.ndarray, h_s: float, h_z
         both = np.count_nonzero(a > 0.3) >= 2 and np.count_nonzero(a < -0.3) >= 2
         cols = [np.ones_like(a), a, b] + ([a * a] if both else [])
         A = np.stack(cols, axis=1) * sw[:, None]
-        if len(a) < 2 * A.shape[1] or np.linalg.cond(A) > MAX_CONDITION:
+        if len(a) < 2 * A.shape[1]:
             continue
-        coef, *_ = np.linalg.lstsq(A, vals[lo[p] : hi[p]][m] * sw[:, None], rcond=None)
+        coef, _, rank, sv = np.linalg.lstsq(A, vals[lo[p] : hi[p]][m] * sw[:, None], rcond=None)
+        if rank < A.shape[1] or sv[0] > MAX_CONDITION * sv[-1]:
+            continue  # the condition number sv_max / sv_min of the weighted fit
         out[p] = coef[0]
     return out.reshape(-1, 3, 3)

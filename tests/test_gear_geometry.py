@@ -11,7 +11,13 @@ import pytest
 
 from gears.involute import inverse_involute, involute
 from gears.pair import GearPair, assign_chain_shifts, with_required_shift
-from gears.profile import fillet_deviation, gear_outline, involute_deviation, tooth_profile
+from gears.profile import (
+    fillet_deviation,
+    gear_outline,
+    involute_deviation,
+    polyline_foot,
+    tooth_profile,
+)
 from gears.spec import GearSpec, GeometryError
 
 COMMON = dict(normal_module=1.59, normal_pressure_angle=20.0, helix_angle=21.0)
@@ -372,6 +378,26 @@ def test_fillet_deviation(which, side):
 # --------------------------------------------------------------------------------------
 # pairs and shift assignment
 # --------------------------------------------------------------------------------------
+
+
+def test_polyline_foot():
+    # The foot on a polyline with a repeated vertex against a brute force over 5001 samples
+    # per segment (spacing at most 1.12 / 5000 = 2.2e-4, so the nearest sample is within
+    # half of it, 1.2e-4, of the exact foot's distance).
+    rng = np.random.default_rng(3)
+    curve = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [1.5, 1.0], [1.0, 2.0], [0.0, 2.5]])
+    q = rng.uniform([-0.5, -0.5], [2.0, 3.0], (200, 2))
+    j, w = polyline_foot(curve, q)
+    assert np.all((w >= 0.0) & (w <= 1.0)) and not np.any(j == 1)  # the zero-length one
+    foot = curve[j] + w[:, None] * (curve[j + 1] - curve[j])
+    t = np.linspace(0.0, 1.0, 5001)[:, None]
+    dense = curve[:-1, None, :] + t[None] * np.diff(curve, axis=0)[:, None, :]
+    dense = dense.reshape(-1, 2)
+    brute = np.min(np.linalg.norm(q[:, None, :] - dense[None], axis=2), axis=1)
+    assert np.allclose(np.linalg.norm(q - foot, axis=1), brute, atol=1.2e-4)
+    # a point on a segment is its own foot
+    jj, ww = polyline_foot(curve, np.array([[1.25, 0.5]]))
+    assert jj[0] == 2 and ww[0] == pytest.approx(0.5)
 
 
 def test_required_shift_and_backlash():
