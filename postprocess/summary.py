@@ -126,9 +126,11 @@ def cycle_bending(records: list[dict]) -> dict:
     submodels (:mod:`solvers.root_submodel`) also of the global model's own surface value
     (``bending_stress_global``, a check), the method in words (``bending_stress_method``),
     and where the surface maximum sits (``bending_stress_at``: position index, roll, tooth,
-    side, z); scenes with several planets also ``bending_stress_set`` and
-    ``bending_stress_tangent_set``, the largest value per gear-set key (the keys of ISO's
-    nominal stress), and ``bending_stress_set_key``, the output key the surface one is of.
+    side, z; ``bending_stress_recovered_at`` for the recovered one, where runs have it);
+    scenes with several planets also ``<name>_set`` for the four surface and ISO-line
+    readings, the largest value per gear-set key (the keys of ISO's nominal stress), and
+    ``bending_stress_set_key`` / ``bending_stress_recovered_set_key``, the output key the
+    surface ones are of.
     An entry missing at a position (no fillet, or a planet's mesh not read) is left out of
     its maximum; None where no position has it (:mod:`solvers.root_stress`)."""
     recs = [(j, r) for j, r in enumerate(records) if r.get("bending_stress")]
@@ -160,31 +162,38 @@ def cycle_bending(records: list[dict]) -> dict:
     def recovered(b, k, q):
         return (((b.get("locations") or {}).get(k) or {}).get("recovered") or {}).get(q)
 
-    out["bending_stress_recovered"], _ = best(lambda b, k: recovered(b, k, "value"))
+    out["bending_stress_recovered"], where_rec = best(lambda b, k: recovered(b, k, "value"))
     out["bending_stress_tangent_recovered"], _ = best(lambda b, k: recovered(b, k, "tangent"))
     out["bending_stress_method"] = recs[0][1]["bending_stress"].get("method")
     if any(r["bending_stress"].get("global") for _, r in recs):  # read on submodels
         out["bending_stress_global"], _ = best(lambda b, k: (b.get("global") or {}).get(k))
-    at = {}
-    for k, j in where.items():
-        if j is None:
-            at[k] = None
-            continue
-        loc = (records[j]["bending_stress"].get("locations") or {}).get(k) or {}
-        at[k] = {"position": records[j]["position"], "roll": records[j].get("roll")}
-        at[k].update({q: loc.get(q) for q in ("tooth", "side", "z_mm")})
-    out["bending_stress_at"] = at
+
+    def at(where, loc_of):
+        out = {}
+        for k, j in where.items():
+            if j is None:
+                out[k] = None
+                continue
+            loc = loc_of((records[j]["bending_stress"].get("locations") or {}).get(k) or {})
+            out[k] = {"position": records[j]["position"], "roll": records[j].get("roll")}
+            out[k].update({q: loc.get(q) for q in ("tooth", "side", "z_mm")})
+        return out
+
+    out["bending_stress_at"] = at(where, lambda loc: loc)
+    if any(v is not None for v in where_rec.values()):
+        out["bending_stress_recovered_at"] = at(where_rec, lambda loc: loc.get("recovered") or {})
     locs = recs[0][1]["bending_stress"].get("locations") or {}
     to_set = {k: (locs.get(k) or {}).get("set_key", k) for k in keys}
     if any(k != v for k, v in to_set.items()):  # several planets: the largest per gear-set key
-        for name in ("bending_stress", "bending_stress_tangent"):
+        for name in ("bending_stress", "bending_stress_tangent", "bending_stress_recovered",
+                     "bending_stress_tangent_recovered"):  # fmt: skip
             by_set: dict = {}
             for k, v in out[name].items():
                 if v is not None and (to_set[k] not in by_set or v > by_set[to_set[k]][0]):
                     by_set[to_set[k]] = (v, k)
             out[f"{name}_set"] = {s: v for s, (v, _) in by_set.items()}
-            if name == "bending_stress":
-                out["bending_stress_set_key"] = {s: k for s, (_, k) in by_set.items()}
+            if name in ("bending_stress", "bending_stress_recovered"):
+                out[f"{name}_set_key"] = {s: k for s, (_, k) in by_set.items()}
     return out
 
 

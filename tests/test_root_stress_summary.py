@@ -105,13 +105,34 @@ def test_recovered_values_are_carried_over_the_cycle():
             _pos(0.2, 530.0, 305.0, (475.0, 285.0), (405.0, 255.0))]  # fmt: skip
     for r, (sun, ring) in zip(recs[:2], ((490.0, 295.0), (505.0, 290.0)), strict=True):
         locs = r["bending_stress"]["locations"]
-        locs["sun"]["recovered"] = {"value": sun, "tangent": sun - 20.0}
-        locs["ring"]["recovered"] = {"value": ring, "tangent": None}
+        locs["sun"]["recovered"] = {"value": sun, "tangent": sun - 20.0, "tooth": 4,
+                                    "side": "neg", "z_mm": 2.0 + r["roll"]}  # fmt: skip
+        locs["ring"]["recovered"] = {"value": ring, "tangent": None, "tooth": 1, "side": "pos",
+                                     "z_mm": -1.0}  # fmt: skip
     out = cycle_bending(recs)
     assert out["bending_stress_recovered"] == {"sun": 505.0, "ring": 295.0}
     assert out["bending_stress_tangent_recovered"] == {"sun": 485.0, "ring": None}
+    # where the recovered maximum sits: its own tooth, side and z (not the nodal one's)
+    at = out["bending_stress_recovered_at"]
+    assert at["sun"] == {"position": 0, "roll": 0.1, "tooth": 4, "side": "neg", "z_mm": 2.1}
+    assert at["ring"] == {"position": 0, "roll": 0.0, "tooth": 1, "side": "pos", "z_mm": -1.0}
+    assert out["bending_stress_at"]["sun"]["tooth"] == 3
     old = cycle_bending(recs[2:])
     assert old["bending_stress_recovered"] == {"sun": None, "ring": None}
+    assert "bending_stress_recovered_at" not in old
+
+
+def test_recovered_values_are_reduced_to_gear_set_keys():
+    keys = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun"}
+    recs = [_pos(0.0, 500.0, 530.0, (1, 1), (1, 1), keys)]
+    locs = recs[0]["bending_stress"]["locations"]
+    locs["sun_pinion1_side"]["recovered"] = {"value": 520.0, "tangent": 470.0}
+    locs["sun_pinion2_side"]["recovered"] = {"value": 510.0, "tangent": 480.0}
+    out = cycle_bending(recs)
+    assert out["bending_stress_recovered_set"] == {"sun": 520.0}
+    assert out["bending_stress_recovered_set_key"] == {"sun": "sun_pinion1_side"}
+    assert out["bending_stress_tangent_recovered_set"] == {"sun": 480.0}
+    assert out["bending_stress_set_key"] == {"sun": "sun_pinion2_side"}  # the nodal one's
 
 
 def test_a_value_kept_apart_beside_a_load_is_reported():
