@@ -113,6 +113,23 @@ def _errors_table(conv: dict, rows, labels) -> list[str]:
     return lines
 
 
+def _root_targets(reading: str | None) -> str:
+    """The sentence saying which root-stress reading the targets are (None: a study reduced
+    before the recovered readings, whose targets were the nodal ones)."""
+    if reading == "recovered":
+        return (
+            " The root stresses targeted are the recovered fillet readings (`_recovered`: a "
+            "moving least-squares fit over the fillet's nodes, `solvers/surface_recovery.py`); "
+            "the nodal maxima, the largest of values that scatter from node to node, are checks."
+        )
+    if reading == "nodal":
+        return (
+            " The root stresses targeted are the nodal maxima: these runs hold no recovered "
+            "reading (solved before 2026-11-30)."
+        )
+    return ""
+
+
 def _recommendation(conv: dict) -> list[str]:
     rec = conv["recommendation"]
     lines = ["## Which level", ""]
@@ -121,7 +138,7 @@ def _recommendation(conv: dict) -> list[str]:
         f"within {rec['targets']['stress']:.0%}, judged on each run's U, the ± the reports "
         "print (the GCI with the capped order, or the bound without an extrapolation; the "
         "SP-RP differential relative to the larger of its two moments). A targeted scalar a "
-        "run lacks, or that has no U, fails it."
+        "run lacks, or that has no U, fails it." + _root_targets(rec.get("root_stress_targets"))
     )
     lines.append("")
     lines.append("| run | time (s) | memory (GB) | worst moment | worst stress | meets |")
