@@ -122,6 +122,33 @@ def test_recovered_values_are_carried_over_the_cycle():
     assert "bending_stress_recovered_at" not in old
 
 
+def test_report_prints_the_recovered_reading_beside_the_nodal_one():
+    gs = load_study_case("1-GA").gearset
+    iso = iso_root_stress_factors(gs)
+    recs = [_pos(0.0, 600.0, 450.0, (580.0, 440.0), (500.0, 300.0)),
+            _pos(1.0, 590.0, 455.0, (585.0, 445.0), (500.0, 300.0))]  # fmt: skip
+    for r, v in zip(recs, (588.0, 594.0), strict=True):
+        r["bending_stress"]["locations"]["sun"]["recovered"] = {
+            "value": v,
+            "tangent": v - 10.0,
+            "tooth": 2,
+            "side": "pos",
+            "z_mm": 1.5 * r["roll"],
+        }
+    s = {"level": 1, "degree": 1, **cycle_bending(recs), "bending_stress_iso6336": iso,
+         "bending_stress_iso6336_nominal": {k: v["sigma_F0"] for k, v in iso.items()},
+         "uncertainty": {"bending_stress_recovered.sun": 0.02}}  # fmt: skip
+    text = "\n".join(root_section({"1-GA": s}, ("sun", "ring"), ["1-GA"]))
+    # the sun's recovered maximum (position 1, Z = -1.5) with its ±, and the ratios to the
+    # nodal maxima 600 (surface) and 585 (line): 594 / 600, 584 / 585
+    assert "| 1-GA | sun | 594 ± 12 | 2, pos, -1.5 | 584 | 0.99 | 1.00 |" in text
+    assert "| | ring |" not in text.split("Recovered reading")[1]  # none for the ring
+    # summaries without the recovered reading print no such table
+    old = {"level": 1, "degree": 1, **cycle_bending(recs[:1])}
+    old["bending_stress_recovered"] = {"sun": None, "ring": None}
+    assert "Recovered reading" not in "\n".join(root_section({"x": old}, ("sun",), ["x"]))
+
+
 def test_recovered_values_are_reduced_to_gear_set_keys():
     keys = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun"}
     recs = [_pos(0.0, 500.0, 530.0, (1, 1), (1, 1), keys)]
