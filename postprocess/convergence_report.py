@@ -233,17 +233,25 @@ def _split_table(conv: dict) -> list[str]:
             + " | ".join(_upct(u) for u in s["uncertainty"])
             + f" | {_upct(sp.get('sector_floor'))} |"
         )
-    return [*lines, *_scatter_lines(conv), ""]
+    targeted = {k for k, e in conv["scalars"].items() if e.get("target") is not None}
+    bare = [k for k, sp in rows if sp.get("sector_floor") is None and k in targeted]
+    return [*lines, *_scatter_lines(conv, bare), ""]
 
 
-def _scatter_lines(conv: dict) -> list[str]:
-    """Where the sector scatter under the root stresses' U was measured."""
+def _scatter_lines(conv: dict, bare: list[str] = ()) -> list[str]:
+    """Where the sector scatter under the root stresses' U was measured, and the targeted
+    root stresses ``bare`` of no measurement."""
     entries = conv.get("sector_scatter") or []
     if not entries:
         return ["", "No sector scatter is kept with this study: the submodel's U is its "
                 "ladder's alone, which may be optimistic where the ladder's values agree by "
                 "chance."]  # fmt: skip
-    lines = ["", "Sector scatter measured (the largest spread per scalar is the floor):"]
+    lines = []
+    if bare:
+        lines += ["", "**Targeted without a measured sector scatter** (their submodel U is the "
+                  "ladder's alone; the measurements below do not hold them): "
+                  + ", ".join(bare) + "."]  # fmt: skip
+    lines += ["", "Sector scatter measured (the largest spread per scalar is the floor):"]
     for e in entries:
         used = "" if e.get("level") == conv.get("case_level") else (
             f" (not used: the case level is {conv.get('case_level')})")  # fmt: skip

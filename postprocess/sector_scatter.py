@@ -23,8 +23,7 @@ from collections.abc import Iterable, Mapping, Sequence
 
 #: a variant's value groups (:func:`studies.sector_sizes.solve_variant`) and the convergence
 #: study's scalar keys they are read as (:data:`postprocess.convergence_study.SPLIT_PREFIXES`);
-#: the recovered values (:mod:`solvers.surface_recovery`, variants since 2026-11-30) are
-#: checks of the convergence study until the records hold their ladders
+#: the recovered values (:mod:`solvers.surface_recovery`) are in variants since 2026-11-30
 GROUP_PREFIX = {"surface": "bending_stress.", "tangent": "bending_stress_tangent.",
                 "surface_recovered": "bending_stress_recovered.",
                 "tangent_recovered": "bending_stress_tangent_recovered."}  # fmt: skip

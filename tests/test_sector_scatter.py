@@ -159,6 +159,11 @@ def test_the_scatter_is_kept_with_the_record_and_raises_its_root_stress_u(tmp_pa
     assert rec["runs"] == before["runs"] and rec["reproduced"] == before["reproduced"]
     report = (records / "1-GB" / "report.md").read_text()
     assert "Sector scatter measured" in report and "source hash abc" in report
+    # the targeted root stresses the measurement does not hold (ROWS: the sun and the ring)
+    # are named: their sector U is the ladder's alone
+    bare = next(ln for ln in report.splitlines() if ln.startswith("**Targeted without"))
+    assert "pinion_sun_side" in bare and "pinion_ring_side" in bare
+    assert "bending_stress.sun" not in bare and "bending_stress.ring" not in bare
     # measured again: the entry of the same level, roll and fillet replaced, not added
     record_scatter("1-GB", 1, out, records)
     assert len(read_json(path)["sector_scatter"]) == 1
