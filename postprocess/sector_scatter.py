@@ -71,3 +71,26 @@ def scatter_floors(entries: Iterable[Mapping], level: int) -> dict[str, float]:
         for key, s in e["spread"].items():
             floors[key] = max(s, floors.get(key, 0.0))
     return floors
+
+
+def case_level_inputs(conv: Mapping) -> set:
+    """The inputs hashes of a study's runs at its case level (its sector ladder's driver)."""
+    return {(r.get("reuse_key") or {}).get("inputs_hash") for r in conv.get("runs") or []
+            if r.get("level") == conv.get("case_level")}  # fmt: skip
+
+
+def carried_scatter(old: Mapping, new: Mapping) -> list[dict]:
+    """The sector-scatter measurements of a record ``old`` that a study ``new`` replacing it
+    keeps: all of them where both are of one gear set, scene and numerics (``match``) and
+    case level, and their case-level runs were solved from the same inputs; else none. The
+    scatter is the sectors' (their meshes, which the inputs and level fix, and each entry
+    names the code that measured it), so solving the ladder again does not remove it: a
+    record that dropped it would print a smaller ± with nothing to show why."""
+    if not old.get("sector_scatter") or old.get("match") != new.get("match"):
+        return []
+    if old.get("case_level") != new.get("case_level"):
+        return []
+    inputs = case_level_inputs(new)
+    if None in inputs or len(inputs) != 1 or case_level_inputs(old) != inputs:
+        return []
+    return list(old["sector_scatter"])

@@ -11,7 +11,12 @@ from cases.study_case import inputs_hash, load_study_case
 from meshing.sizing import LEVELS
 from meshing.submodel import submodel_level
 from postprocess.convergence_study import reduce_study, scalar_table
-from postprocess.sector_scatter import other_size_spreads, scatter_floors, spread
+from postprocess.sector_scatter import (
+    carried_scatter,
+    other_size_spreads,
+    scatter_floors,
+    spread,
+)
 from studies.cli import EXIT_INVALID_INPUT
 from studies.convergence import reduce_records
 from studies.files import read_json, write_json
@@ -215,3 +220,42 @@ def test_another_level_or_a_missing_file_is_refused(tmp_path, capsys):
     assert main([*argv, "--level", "0"]) == EXIT_INVALID_INPUT
     err = capsys.readouterr().err
     assert "run make sector-sizes CASE=1-GB SECTOR_LEVEL=0 SECTOR_ROLL=0 first" in err
+
+
+def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
+    """Solving a ladder again and recording it (make convergence-main RECORD=1) keeps the
+    scatter measured on the same inputs and case level: the record before 2026-11-30 lost
+    it, and with it the floor under its root stresses' sector U, with nothing to show why
+    but a smaller ±."""
+    from studies.convergence import record
+
+    records = tmp_path / "records"
+    shutil.copytree(RECORDS / "1-GB", records / "1-GB")
+    path = records / "1-GB" / "convergence.json"
+    old = read_json(path)
+    entry = {"level": 1, "roll": 0.0, "fillet_mm": 0.1, "variants": ["1:0.1", "2:0.1"],
+             "geometry_order": 1, "code_hash": "abc",
+             "spread": {"bending_stress_recovered.ring": 0.2}}  # fmt: skip
+    write_json(path, {**old, "sector_scatter": [entry]})
+    new = {k: v for k, v in old.items() if k not in ("sector_scatter", "recorded")}
+    assert carried_scatter(read_json(path), new) == [entry]
+    # another case level, gear set or inputs of the case-level run: not the same sectors
+    assert carried_scatter(read_json(path), {**new, "case_level": 2}) == []
+    assert carried_scatter(read_json(path), {**new, "match": {"gearset": "x"}}) == []
+    other = [dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"})
+             if r["level"] == 1 else r for r in new["runs"]]  # fmt: skip
+    assert carried_scatter(read_json(path), {**new, "runs": other}) == []
+    # recorded again: kept, and the record reduced with it (its report names it)
+    study = tmp_path / "study"
+    study.mkdir()
+    (study / "report.md").write_text("# the study, reduced without the scatter\n")
+    rec = read_json(record(study, new, records))
+    assert rec["sector_scatter"] == [entry] and rec["recorded"]["date"]
+    split = rec["scalars"]["bending_stress_recovered.ring"]["split"]
+    assert split["sector_floor"] == 0.2
+    assert "source hash abc" in (records / "1-GB" / "report.md").read_text()
+    # a record of other inputs: nothing carried, the study's own report copied
+    write_json(path, {**read_json(path), "runs": other})
+    rec = read_json(record(study, new, records))
+    assert "sector_scatter" not in rec
+    assert (records / "1-GB" / "report.md").read_text().startswith("# the study, reduced")
