@@ -65,6 +65,7 @@ from postprocess.convergence import reproduction_text
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import compare_runs, reduce_study
 from postprocess.run_scalars import run_label
+from postprocess.sector_scatter import carried_scatter
 from studies.cli import InputError, guarded
 from studies.files import ResultFileError, read_json, write_json
 from studies.memory import mem_available_gb
@@ -255,14 +256,26 @@ def ladder(args, runs: list[tuple[int, int]]) -> dict:
 def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
     """Copy the study in ``folder`` to ``<records>/<case>/`` with the date and commit it was
     recorded on (``recorded``; the source hash of its runs is the study's ``runs_code_hash``);
-    returns the record's convergence.json."""
+    returns the record's convergence.json. The sector-scatter measurements of the record it
+    replaces stay where they are of the same sectors
+    (:func:`postprocess.sector_scatter.carried_scatter`), and the record is reduced with
+    them."""
     dest = records / conv["case"]
     dest.mkdir(parents=True, exist_ok=True)
+    prev = dest / STUDY_FILE
+    kept = carried_scatter(read_json(prev), conv) if prev.is_file() else []
     rec = {**conv, "recorded": {
         "date": utc_stamp(),
         "git_revision": git_revision(),
     }}  # fmt: skip
+    if kept:
+        rec = reduce_study({**rec, "sector_scatter": kept})
     write_json(dest / STUDY_FILE, rec)
+    if kept:
+        if not speed_error_chart(rec, dest / CHART):
+            (dest / CHART).unlink(missing_ok=True)
+        write_report(rec, dest)
+        return dest / STUDY_FILE
     for name in ("report.md", CHART):
         if (folder / name).is_file():
             shutil.copyfile(folder / name, dest / name)

@@ -161,7 +161,7 @@ def test_the_scatter_is_kept_with_the_record_and_raises_its_root_stress_u(tmp_pa
     drv = sp["driver"]["uncertainty"][sp["driver"]["at"].index("L1P1")]
     assert rec["scalars"]["bending_stress.sun"]["uncertainty"]["L1P1"] == pytest.approx(drv + s)
     assert rec["scalars"]["bending_stress.sun"]["uncertainty"]["L1P1"] > u0
-    assert rec["runs"] == before["runs"] and rec["reproduced"] == before["reproduced"]
+    assert rec["runs"] == before["runs"] and rec.get("reproduced") == before.get("reproduced")
     report = (records / "1-GB" / "report.md").read_text()
     assert "Sector scatter measured" in report and "source hash abc" in report
     # the targeted root stresses the measurement does not hold (ROWS: the sun and the ring)
