@@ -12,7 +12,8 @@ record's
 replaces an earlier one), then reduces the records again
 (:func:`studies.convergence.reduce_records`). From then on the sector part of each root
 stress's U is at least that spread, in the record's report and in every summary whose ± come
-from the record (:mod:`postprocess.sector_scatter`). Solves nothing.
+from the record (:mod:`postprocess.sector_scatter`), also after the ladder is recorded again
+from the same inputs and case level (:func:`studies.convergence.record`). Solves nothing.
 
 A measurement at another position (``make sector-sizes SECTOR_ROLL=...``) adds an entry: the
 floor is the largest spread over every position measured, whether or not the record's ladder
