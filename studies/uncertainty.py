@@ -35,6 +35,7 @@ from cases.study_case import StudyCase, study_inputs
 from postprocess.convergence import reproduction_text, uncertainty_for
 from postprocess.convergence_study import reduce_study
 from postprocess.run_scalars import run_label
+from postprocess.sector_scatter import carried_scatter
 from studies.files import ResultFileError, read_json
 from studies.provenance import code_hash
 
@@ -146,6 +147,22 @@ def summary_uncertainty(
     return out
 
 
+def _with_kept_scatter(conv: dict, found) -> tuple[dict, Path | None]:
+    """``conv`` reduced with the sector scatter another of the studies ``found`` keeps for
+    the same sectors (:func:`postprocess.sector_scatter.carried_scatter`: one match key,
+    case level and case-level inputs), and that study's path; ``conv`` and None where it
+    keeps its own or none applies. ``make sector-scatter`` keeps the scatter with the record
+    only, while the study of this machine's results, solved by the same code, stands before
+    the record: without this its ± would lack the floor the record's have."""
+    if conv.get("sector_scatter"):
+        return conv, None
+    for path, other in found:
+        kept = carried_scatter(other, conv)
+        if kept:
+            return reduce_study({**conv, "sector_scatter": kept}), path
+    return conv, None
+
+
 def _from_studies(study, level, degree, folder, key, found) -> dict:
     """:func:`summary_uncertainty` from the readable studies ``found``."""
     if found:
@@ -154,8 +171,13 @@ def _from_studies(study, level, degree, folder, key, found) -> dict:
         label = run_label(level, degree)
         have = [(p, c) for p, c in found if label in c.get("labels", [])] or found
         path, conv = next(((p, c) for p, c in have if solved_with(c) == now), have[0])
+        conv, scatter_from = _with_kept_scatter(conv, found)
         out = uncertainty_for(conv, level, degree, str(path))
         src = out["uncertainty_source"]
+        if scatter_from is not None:
+            src["sector_scatter_from"] = str(scatter_from)
+            src["note"] += (f"; the sector scatter under its root stresses' U as kept with "
+                            f"{scatter_from}")  # fmt: skip
         src["code_changed"] = solved_with(conv) != now
         if conv.get("recorded"):
             src["recorded"] = conv["recorded"]

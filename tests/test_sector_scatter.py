@@ -259,3 +259,34 @@ def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
     rec = read_json(record(study, new, records))
     assert "sector_scatter" not in rec
     assert (records / "1-GB" / "report.md").read_text().startswith("# the study, reduced")
+
+
+def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path):
+    """make sector-scatter keeps the scatter with the record; the same ladder's study under
+    this machine's results (the same runs, so solved by the same code) stands before the
+    record in the ± lookup and must not print a ± without the floor the record's has."""
+    from studies.uncertainty import summary_uncertainty
+
+    records, results = tmp_path / "records", tmp_path / "results"
+    shutil.copytree(RECORDS / "1-GB", records / "1-GB")
+    rec = read_json(records / "1-GB" / "convergence.json")
+    assert rec["sector_scatter"]  # the record keeps its scatter
+    (results / "convergence" / "1-GB").mkdir(parents=True)
+    bare = {k: v for k, v in rec.items() if k != "sector_scatter"}
+    write_json(results / "convergence" / "1-GB" / "convergence.json", bare)
+    key = "bending_stress_recovered.ring"
+    own = reduce_study(bare)["scalars"][key]["uncertainty"]["L1P1"]
+    floored = reduce_study(rec)["scalars"][key]["uncertainty"]["L1P1"]
+    assert floored > own  # 1-GB: the ring's sector scatter lies above its sector ladder's U
+    got = summary_uncertainty(load_study_case("1-GB"), 1, 1, results, records=records)
+    src = got["uncertainty_source"]
+    assert src["convergence_study"].startswith(str(results))  # this machine's study first
+    assert got["uncertainty"][key] == pytest.approx(floored, rel=1e-12)
+    assert src["sector_scatter_from"] == str(records / "1-GB" / "convergence.json")
+    # a record whose case-level run was solved from other inputs lends it nothing
+    rec["runs"] = [dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"})
+                   if r["level"] == 1 else r for r in rec["runs"]]  # fmt: skip
+    write_json(records / "1-GB" / "convergence.json", rec)
+    got = summary_uncertainty(load_study_case("1-GB"), 1, 1, results, records=records)
+    assert got["uncertainty"][key] == pytest.approx(own, rel=1e-12)
+    assert "sector_scatter_from" not in got["uncertainty_source"]
