@@ -76,9 +76,13 @@ RECOVERED_PREFIXES = ("bending_stress_recovered.", "bending_stress_tangent_recov
 
 
 def holds_recovered(rows: list[dict]) -> bool:
-    """Whether a finished run of ``rows`` holds a recovered root-stress reading."""
-    return any(k.startswith(RECOVERED_PREFIXES)
-               for r in rows if "error" not in r for k in r["scalars"])  # fmt: skip
+    """Whether every finished run of ``rows`` holds recovered root-stress readings. Every,
+    not any: a study reduced from runs of older and newer code (``--reduce-only``) whose
+    ladder lacks them in some run has no ladder of them, and its nodal readings must stay
+    the targets, or its root stresses would have none."""
+    ok = [r for r in rows if "error" not in r]
+    return bool(ok) and all(any(k.startswith(RECOVERED_PREFIXES) for k in r["scalars"])
+                            for r in ok)  # fmt: skip
 
 
 def target(key: str, recovered: bool = False) -> float | None:
