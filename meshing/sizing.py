@@ -131,6 +131,17 @@ def with_fillet(level, fillet: float) -> Level:
     return check_level(replace(check_level(level), fillet=fillet))
 
 
+def with_flanks(level: int, flank_level: int) -> Level:
+    """The sizes of ``level`` with the flank elements of the active teeth at level
+    ``flank_level``'s (both indices of :data:`LEVELS`): an off-ladder run of a convergence
+    study (:mod:`studies.convergence`, ``--extra L:D:F``), whose contact grid follows the
+    flank size as at every level (:func:`studies.position.solve_position`). The fillets,
+    the other teeth and the body keep ``level``'s sizes, and the root stress is read on
+    ``level``'s sector (:func:`meshing.submodel.submodel_level` of the index)."""
+    check_level(flank_level)
+    return check_level(replace(check_level(level), fine=LEVELS[flank_level].fine))
+
+
 def level_record(level) -> int | dict:
     """A level as JSON: its index, or the sizes of a :class:`Level` (checked)."""
     lv = check_level(level)

@@ -17,7 +17,7 @@ from matplotlib.ticker import FormatStrFormatter, FuncFormatter, NullFormatter, 
 
 from postprocess.convergence import NEAR_ZERO, SAFETY_TWO_GRID, reproduction_text
 from postprocess.convergence_study import CG_NOISE, P_CAP
-from postprocess.run_scalars import run_label
+from postprocess.run_scalars import row_label
 
 CHART = "speed_error.png"
 
@@ -51,6 +51,13 @@ def _memory(conv: dict, label: str, mb: float) -> str:
     return f"{mb / 1024:.1f}" + (" (factors on disk)" if label in _out_of_core(conv) else "")
 
 
+def _level(r: dict) -> str:
+    """A run's level, and where its flanks are another level's (:func:`meshing.sizing.
+    with_flanks`)."""
+    f = r.get("flank_level")
+    return f"{r['level']}" if f is None else f"{r['level']} (flanks and grid of {f})"
+
+
 def _runs_table(conv: dict) -> list[str]:
     lines = [
         "| run | level | degree | DOFs | grid points | total (s) | scene, meshes (s) | bodies (s)"
@@ -60,11 +67,11 @@ def _runs_table(conv: dict) -> list[str]:
     ]
     for r in conv["runs"]:
         if "error" in r:
-            lines.append(f"| {r['label']} | {r['level']} | {r['degree']} | failed: {r['error']} |")
+            lines.append(f"| {r['label']} | {_level(r)} | {r['degree']} | failed: {r['error']} |")
             continue
         t = r["time_s"]
         lines.append(
-            f"| {r['label']} | {r['level']} | {r['degree']} | {r['dofs']} | "
+            f"| {r['label']} | {_level(r)} | {r['degree']} | {r['dofs']} | "
             f"{r['grid_points_total']} | {t['total']:.1f} | {t.get('scene_meshes', 0):.1f} | "
             f"{t.get('bodies', 0):.1f} | {t['factorization']:.1f} | {t['compliance']:.1f} | "
             f"{_memory(conv, r['label'], r['peak_rss_mb'])} | "
@@ -72,7 +79,7 @@ def _runs_table(conv: dict) -> list[str]:
             f"{'yes' if r.get('reused') else 'no'} |"
         )
     for s in conv.get("skipped", []):
-        lines.append(f"| {s['label']} | {s['level']} | {s['degree']} | skipped: {s['why']} |")
+        lines.append(f"| {s['label']} | {_level(s)} | {s['degree']} | skipped: {s['why']} |")
     return lines
 
 
@@ -269,12 +276,36 @@ def _runs_code(conv: dict) -> list[str]:
     other = [h for h in conv.get("runs_code_hash", []) if h != conv.get("code_hash")]
     if not other:
         return []
+    if conv.get("added"):  # the ladder's code beside the added runs' (_off_ladder)
+        return [f"The ladder's runs were solved by code {', '.join(other)}; the reduction, "
+                f"targets and report are code {conv['code_hash']}'s.", ""]  # fmt: skip
     return [
         f"Reduced again (`--reduce-only`) by code {conv['code_hash']} from runs solved by "
         f"code {', '.join(other)}: the runs' values are those of that code; the reduction, "
         "targets and report are this code's.",
         "",
     ]
+
+
+def _off_ladder(conv: dict) -> list[str]:
+    """How the runs off the ladder are judged, and which were added to a record later
+    (``python -m studies.convergence CASE --add-to-record L:D:F``) by which code."""
+    off = [r for r in conv["runs"] if "error" not in r and (r.get("flank_level") is not None
+           or r.get("degree") != conv.get("ladder_degree"))]  # fmt: skip
+    if not off:
+        return []
+    lines = [
+        "Off the ladder: "
+        + ", ".join(f"{r['label']} (level {_level(r)}, degree {r['degree']})" for r in off)
+        + ". Each is judged against the ladder's extrapolation X: error = (value - X) / |X|, "
+        "U = 1.25 |value - X| relative to the value (at least the sector scatter for a root "
+        "stress read on a sector); without an X, the spread of the ladder and its value.",
+    ]
+    for label, a in sorted((conv.get("added") or {}).items()):
+        lines[0] += (f" {label} was added to the record on {a.get('date')} by code "
+                     f"{a.get('code_hash')} (commit {str(a.get('git_revision'))[:10]}); "
+                     "the ladder's runs keep the code that solved them.")  # fmt: skip
+    return [*lines, ""]
 
 
 def _reproductions(conv: dict) -> list[str]:
@@ -295,8 +326,8 @@ def _missing_scalars(conv: dict) -> list[str]:
     absent at level 2): the study has no ± for them, and a targeted one fails the verdict of
     the run that lacks it (:func:`postprocess.convergence_study.recommend`)."""
     ladder = [r for r in conv["runs"] if "error" not in r and r.get("degree") ==
-              conv.get("ladder_degree")]  # fmt: skip
-    have = {run_label(r["level"], r["degree"]): set(r.get("scalars") or {}) for r in ladder}
+              conv.get("ladder_degree") and r.get("flank_level") is None]  # fmt: skip
+    have = {row_label(r): set(r.get("scalars") or {}) for r in ladder}
     every = set().union(*have.values()) if have else set()
     missing = {k: [lab for lab, keys in have.items() if k not in keys] for k in sorted(every)}
     missing = {k: labs for k, labs in missing.items() if labs}
@@ -343,6 +374,7 @@ def write_report(conv: dict, folder: Path) -> Path:
     lines += _runs_code(conv)
     lines += _reproductions(conv)
     lines += ["## Runs", "", *_runs_table(conv), ""]
+    lines += _off_ladder(conv)
     if not conv["scalars"]:
         lines += ["No scalar table: fewer than one finished ladder run.", ""]
     else:

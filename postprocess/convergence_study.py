@@ -47,7 +47,7 @@ from postprocess.convergence import (
     two_grid,
 )
 from postprocess.paper_moments import DIFFERENTIALS
-from postprocess.run_scalars import run_label, scalar_kind, unit
+from postprocess.run_scalars import row_label, scalar_kind, unit
 from postprocess.sector_scatter import scatter_floors
 
 P_CAP = 2.0
@@ -221,7 +221,7 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
     sub_vals = [_fillet_value(base, key, f) for f in sizes]
     if any(v is None for v in drv_vals + sub_vals):
         return None
-    labels = [run_label(r["level"], r["degree"]) for r in lad]
+    labels = [row_label(r) for r in lad]
     h_drv = [r["h_mm"]["fine"] for r in lad]
     if len(lad) >= 3:
         drv = richardson(h_drv[-3:], drv_vals[-3:], p_cap=P_CAP, zero_scale=zero_scale,
@@ -274,9 +274,10 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
 
 def ladder(rows: list[dict], degree: int = 1) -> tuple[list[dict], list[dict]]:
     """The three finest finished h-levels of ``degree`` (coarse to fine) and the other
-    finished runs."""
+    finished runs (other degrees, and runs with another level's flanks, ``flank_level``)."""
     ok = [r for r in rows if "error" not in r]
-    levels = sorted((r for r in ok if r["degree"] == degree), key=lambda r: r["level"])[-3:]
+    on = [r for r in ok if r["degree"] == degree and r.get("flank_level") is None]
+    levels = sorted(on, key=lambda r: r["level"])[-3:]
     return levels, [r for r in ok if r not in levels]
 
 
@@ -308,9 +309,7 @@ def scalar_table(
             "unit": unit(key),
             "target": target(key, recovered),
             "values": {
-                run_label(r["level"], r["degree"]): r["scalars"][key]
-                for r in (*lad, *others)
-                if key in r["scalars"]
+                row_label(r): r["scalars"][key] for r in (*lad, *others) if key in r["scalars"]
             },
         }
         f = [r["scalars"][key] for r in lad]
@@ -325,7 +324,7 @@ def scalar_table(
             floor = split["split"]["sector_floor"] or 0.0  # its sector scatters as well
             for r in others:  # another degree: against X, else the spread with the ladder
                 if key in r["scalars"]:
-                    lab, v = run_label(r["level"], r["degree"]), r["scalars"][key]
+                    lab, v = row_label(r), r["scalars"][key]
                     x = split["extrapolated"]
                     u_abs = SAFETY * abs(v - x) if x is not None else max(*f, v) - min(*f, v)
                     u_abs = max(u_abs, floor * abs(v))
@@ -337,7 +336,7 @@ def scalar_table(
         if len(lad) == 2:  # the third grid did not fit: Roache's two-grid GCI
             res = two_grid([_h(r, key) for r in lad], f, _p_cap(lad[-1], key),
                            zero_scale=zs)  # fmt: skip
-            labels = [run_label(r["level"], r["degree"]) for r in lad]
+            labels = [row_label(r) for r in lad]
             entry.update(
                 status=res.status,
                 order=None,
@@ -363,7 +362,7 @@ def scalar_table(
         res = richardson(h, f, p_cap=cap, zero_scale=zs, noise=noise)
         by_dof = richardson([r["dofs"] ** (-1.0 / 3.0) for r in lad], f, p_cap=cap, zero_scale=zs,
                             noise=noise)  # fmt: skip
-        labels = [run_label(r["level"], r["degree"]) for r in lad]
+        labels = [row_label(r) for r in lad]
         entry.update(
             status=res.status,
             order=res.order,
@@ -395,7 +394,7 @@ def _off_ladder_runs(entry: dict, res, others: list[dict], key: str, f: list[flo
     for r in others:
         if key in r["scalars"]:
             o = off_ladder(res, r["scalars"][key], f, zero_scale=zs)
-            lab = run_label(r["level"], r["degree"])
+            lab = row_label(r)
             entry["rel_error"][lab] = o["rel_error"]
             entry["uncertainty"][lab] = o["uncertainty"]
             entry["uncertainty_abs"][lab] = o["uncertainty_abs"]
@@ -437,7 +436,7 @@ def recommend(rows: list[dict], table: dict[str, dict]) -> dict:
     have = {k for r in ok for k in r["scalars"]}
     recovered = holds_recovered(ok)
     for r in ok:
-        label = run_label(r["level"], r["degree"])
+        label = row_label(r)
         worst: dict[str, dict] = {}
         failing, missing, no_bound = [], [], []
         for key in sorted(have):
@@ -466,6 +465,7 @@ def recommend(rows: list[dict], table: dict[str, dict]) -> dict:
                 "run": label,
                 "level": r["level"],
                 "degree": r["degree"],
+                **({} if r.get("flank_level") is None else {"flank_level": r["flank_level"]}),
                 "time_s": r["time_s"]["total"],
                 "peak_rss_mb": r["peak_rss_mb"],
                 "meets": not (failing or missing or no_bound) and bool(worst),
@@ -481,11 +481,13 @@ def recommend(rows: list[dict], table: dict[str, dict]) -> dict:
         "targets": {"moment": MOMENT_RTOL, "stress": STRESS_RTOL},
         "root_stress_targets": "recovered" if recovered else "nodal",
         "runs": verdicts,
-        "recommended": None
-        if best is None
-        else {k: best[k] for k in ("run", "level", "degree", "time_s", "peak_rss_mb")},
+        "recommended": None if best is None else {k: best[k] for k in RECOMMENDED if k in best},
         "note": _note(best, verdicts),
     }
+
+
+#: what the recommendation keeps of the chosen run
+RECOMMENDED = ("run", "level", "degree", "flank_level", "time_s", "peak_rss_mb")
 
 
 def _note(best: dict | None, verdicts: list[dict]) -> str:

@@ -97,5 +97,12 @@ def lookup(tree: Mapping, key: str):
     return tree
 
 
-def run_label(level: int, degree: int) -> str:
-    return f"L{level}P{degree}"
+def run_label(level: int, degree: int, flank_level: int | None = None) -> str:
+    """``L<level>P<degree>``, with ``F<flank_level>`` for a run whose active flanks and
+    contact grid are those of another level (:func:`meshing.sizing.with_flanks`)."""
+    return f"L{level}P{degree}" + ("" if flank_level is None else f"F{flank_level}")
+
+
+def row_label(row: Mapping) -> str:
+    """The :func:`run_label` of a convergence study's run row."""
+    return run_label(row["level"], row["degree"], row.get("flank_level"))

@@ -33,12 +33,14 @@ Where the window holds fewer than two nodes beyond 0.3 h_s on either side of s0 
 edges), the quadratic term is dropped (a one-sided quadratic extrapolates); a fit that is
 still underdetermined or ill-conditioned gives NaN, and the caller keeps the nodal value.
 
-Measured (2026-11-30, the sectors of ``make sector-sizes`` captured and read again; 1-GB on
-the level-1 driver at mid-cycle, (max - min) / mean over levels 1 / 2 / 3's sizes at 0.1 mm,
-nodal -> recovered): ISO lines sun 1.23 -> 1.22, pinion sun side 0.86 -> 0.81, ring side
-0.94 -> 1.06, ring 4.63 -> 1.64 %; surface maxima 0.75 / 0.62 / 1.68 / 0.88 -> 0.78 / 0.92 /
-1.42 / 1.03 %. Windows of 1.5-3 spacings across and 3-6 along read within about 1 % of
-these; a fit linear across the profile cut the peaks by 2-5 %. The recovered surface maxima
+Measured (2026-11-30, ``make sector-sizes``, the numbers 1-GB's record keeps; on the
+level-1 driver at mid-cycle, (max - min) / mean over levels 1 / 2 / 3's sizes at 0.1 mm,
+nodal -> recovered): ISO lines sun 1.23 -> 1.22, pinion sun side 0.86 -> 0.94, ring side
+0.94 -> 1.70, ring 4.63 -> 1.64 %; surface maxima 0.75 / 0.62 / 1.68 / 0.88 -> 0.78 / 0.83 /
+1.94 / 1.03 % (an earlier capture of the same sectors, read offline, gave the pinion's
+recovered spreads as 0.81 / 1.06 and 0.92 / 1.42 %; the cause is not traced). Windows of
+1.5-3 spacings across and 3-6 along read within about 1 % of these; a fit linear across the
+profile cut the peaks by 2-5 %. The recovered surface maxima
 lie 0.3-2.8 % below the nodal ones (the nodal maxima are maxima of scattered values and
 carry the scatter's upper half); the ISO-line values from 4.0 % below to 0.9 % above them
 (the line's points fall between nodes, where the fit may pass above the nodal values'

@@ -66,7 +66,7 @@ from postprocess.convergence_report import CHART, speed_error_chart, write_repor
 from postprocess.convergence_study import compare_runs, reduce_study
 from postprocess.run_scalars import run_label
 from postprocess.sector_scatter import carried_scatter
-from studies.cli import InputError, guarded
+from studies.cli import InputError, StudyFailed, guarded
 from studies.files import ResultFileError, read_json, write_json
 from studies.memory import mem_available_gb
 from studies.position_runs import print_row, run_child, solve_run
@@ -86,22 +86,26 @@ POSITIONS_NOTE = {
 }
 
 
-def _reuse_key(
-    study, level: int, degree: int, positions: int, split: bool = False, ooc: bool = False
-) -> dict:
+#: a run of a study: (level, degree, flank level or None; :func:`meshing.sizing.with_flanks`)
+Run = tuple[int, int, int | None]
+
+
+def _reuse_key(study, run: Run, positions: int, split: bool = False, ooc: bool = False) -> dict:
+    level, degree, flank = run
     return {
         "inputs_hash": inputs_hash(study),
         "code_hash": code_hash(),
         "level": level,
         "degree": degree,
+        "flank_level": flank,
         "positions": positions,
-        "submodel_levels": list(submodel_levels(study, level, degree) if split else ()),
+        "submodel_levels": list(submodel_levels(study, run) if split else ()),
         # the same answer, but another time and memory on the chart
         "out_of_core": ooc,
     }
 
 
-def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
+def submodel_levels(study, run: Run) -> tuple[int, ...]:
     """The submodels (global levels whose sector, :func:`meshing.submodel.submodel_level`,
     is read) a ladder run also reads the root stress on, at its own global solution
     (:func:`postprocess.convergence_study.root_stress_split`): the run at the case's level
@@ -116,13 +120,15 @@ def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
     sizes changes, :data:`meshing.submodel.SECTOR_STEP`). 1-GB at roll 0, level-1 driver,
     sun on ISO's 30 deg line: 788 / 822 / 810 MPa on the 0.2 / 0.15 / 0.1 mm sectors
     (oscillatory, U the whole 4.1 % spread), 822 / 810 / 807 MPa on the 0.15 / 0.1 /
-    0.08 mm ones (monotone, observed order 1.8, GCI 3.4 %).
+    0.08 mm ones (monotone, observed order 1.8, GCI 3.4 %). ``run``: (level, degree, flank
+    level), :data:`Run`.
 
     The whole sector, not its fillet alone: 1-GB at roll 0, sun fillet on a 0.2 mm
     submodel, its other sizes those of level 1 / level 2: 844 / 857 MPa on the level-1
     driver, 838 / 850 MPa on the level-2 driver; a fillet-only ladder would leave that
     part of the submodel's error in the driver's."""
-    if degree != LADDER_DEGREE or study.numerics.root_stress != "submodel":
+    level, degree, flank = run
+    if degree != LADDER_DEGREE or flank is not None or study.numerics.root_stress != "submodel":
         return ()
     own = study.model.level
     if level != own:
@@ -137,17 +143,35 @@ def submodel_levels(study, level: int, degree: int) -> tuple[int, ...]:
     return tuple(sorted(picked))
 
 
-def _parse_extra(text: str, option: str = "--extra") -> tuple[int, int]:
+def _parse_extra(text: str, option: str = "--extra") -> Run:
+    """``L:D`` (level L, degree D) or ``L:D:F`` (with the active flanks and contact grid of
+    level F, :func:`meshing.sizing.with_flanks`), checked."""
     try:
-        level, degree = (int(v) for v in text.split(":"))
+        parts = [int(v) for v in text.split(":")]
+        if len(parts) not in (2, 3):
+            raise ValueError(text)
     except ValueError as exc:
-        raise InputError(f"{option} {text!r}: must be LEVEL:DEGREE, e.g. 0:2") from exc
+        raise InputError(
+            f"{option} {text!r}: must be LEVEL:DEGREE, e.g. 0:2, or LEVEL:DEGREE:FLANK_LEVEL, "
+            "e.g. 1:1:2 (level 1 with level 2's flanks and contact grid)"
+        ) from exc
+    level, degree, flank = (*parts, None) if len(parts) == 2 else parts
     if degree not in (1, 2):
         raise InputError(f"{option} {text!r}: the degree must be 1 or 2")
-    return level, degree
+    for name, lv in (("level", level), ("flank level", flank)):
+        if lv is None:
+            continue
+        try:
+            sizing.check_level(lv)
+        except ValueError as exc:
+            raise InputError(f"{option} {text!r}: the {name}: {exc}") from exc
+    if flank == level:
+        raise InputError(f"{option} {text!r}: the flank level must differ from the level "
+                         f"(LEVEL:DEGREE is that run)")  # fmt: skip
+    return level, degree, flank
 
 
-def _check(args) -> list[tuple[int, int]]:
+def _check(args) -> list[Run]:
     """The runs of the study (ladder, then extras), checked; InputError names the option."""
     for lv in args.levels:
         try:
@@ -163,15 +187,18 @@ def _check(args) -> list[tuple[int, int]]:
         )
     if not 1 <= args.positions <= MAX_POSITIONS:
         raise InputError(f"--positions {args.positions}: must be 1 to {MAX_POSITIONS}")
-    runs = [(lv, LADDER_DEGREE) for lv in sorted(set(args.levels))]
+    runs = [(lv, LADDER_DEGREE, None) for lv in sorted(set(args.levels))]
     for e in args.extra:
         run = _parse_extra(e)
-        sizing.check_level(run[0])
         if run not in runs:
             runs.append(run)
     args.ooc_runs = set()
     for item in args.out_of_core:
-        run = (int(item), LADDER_DEGREE) if item.isdigit() else _parse_extra(item, "--out-of-core")
+        run = (
+            (int(item), LADDER_DEGREE, None)
+            if item.isdigit()
+            else _parse_extra(item, "--out-of-core")
+        )
         if run not in runs:
             raise InputError(
                 f"--out-of-core {item}: not a run of this study "
@@ -181,22 +208,22 @@ def _check(args) -> list[tuple[int, int]]:
     return runs
 
 
-def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
+def _reused(args, study, run: Run, folder: Path) -> dict | None:
     """The finished run in ``runs/<run>.json`` if it was solved with this study's key (with
     ``--reduce-only``: with this study's key but for the code's hash, which the row keeps)."""
-    path = folder / "runs" / f"{run_label(level, degree)}.json"
+    path = folder / "runs" / f"{run_label(*run)}.json"
     if args.no_reuse or not path.is_file():
         return None
     try:
         old = read_json(path)
     except ResultFileError:
         return None
-    key = _reuse_key(study, level, degree, args.positions, args.split_root_stress,
-                     (level, degree) in args.ooc_runs)  # fmt: skip
+    key = _reuse_key(study, run, args.positions, args.split_root_stress, run in args.ooc_runs)
     if not isinstance(old, dict) or "error" in old or not isinstance(old.get("reuse_key"), dict):
         return None
     ignored = ("code_hash",) if args.reduce_only else ()
-    stored = {"out_of_core": False, **old["reuse_key"]}  # runs stored before the option
+    # runs stored before the options
+    stored = {"out_of_core": False, "flank_level": None, **old["reuse_key"]}
     stored = {k: v for k, v in stored.items() if k not in ignored}
     if stored == {k: v for k, v in key.items() if k not in ignored}:
         old["reused"] = True
@@ -204,30 +231,34 @@ def _reused(args, study, level: int, degree: int, folder: Path) -> dict | None:
     return None
 
 
-def _one_run(args, study, level: int, degree: int, folder: Path) -> dict:
+def _one_run(args, study, run: Run, folder: Path) -> dict:
     """The row of one run: reused (:func:`_reused`), else solved in a child process and
     written to ``runs/<run>.json``."""
-    old = _reused(args, study, level, degree, folder)
+    old = _reused(args, study, run, folder)
     if old is not None:
         return old
-    label = run_label(level, degree)
+    level, degree, flank = run
+    label = run_label(*run)
     if args.reduce_only:
         raise InputError(
             f"--reduce-only: no finished run {label} in {folder / 'runs'} solved from these "
             "inputs, positions and submodel readings; run the study without --reduce-only"
         )
     child = ["--one", args.case, str(level), str(degree), str(args.positions)]
-    subs = submodel_levels(study, level, degree) if args.split_root_stress else ()
+    subs = submodel_levels(study, run) if args.split_root_stress else ()
     if subs:
         child += ["--submodels", *(str(k) for k in subs)]
-    ooc = (level, degree) in args.ooc_runs
+    if flank is not None:
+        child += ["--flank-level", str(flank)]
+    ooc = run in args.ooc_runs
     if ooc:
         child += ["--out-of-core-run"]
     log = folder / "runs" / f"{label}.log"  # the child's progress, a line per submodel
     row = run_child("studies.convergence", child, level, degree, args.timeout, log)
+    if flank is not None:  # a failed child's row lacks it
+        row["flank_level"] = flank
     row["label"], row["reused"] = label, False
-    row["reuse_key"] = _reuse_key(study, level, degree, args.positions, args.split_root_stress,
-                                  ooc)  # fmt: skip
+    row["reuse_key"] = _reuse_key(study, run, args.positions, args.split_root_stress, ooc)
     write_json(folder / "runs" / f"{label}.json", row)
     return row
 
@@ -259,26 +290,38 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
     returns the record's convergence.json. The sector-scatter measurements of the record it
     replaces stay where they are of the same sectors
     (:func:`postprocess.sector_scatter.carried_scatter`), and the record is reduced with
-    them."""
+    them; a record it replaces that cannot be read carries nothing (said on stdout: ``make
+    sector-scatter`` keeps them again)."""
     dest = records / conv["case"]
     dest.mkdir(parents=True, exist_ok=True)
     prev = dest / STUDY_FILE
-    kept = carried_scatter(read_json(prev), conv) if prev.is_file() else []
+    kept = []
+    if prev.is_file():
+        try:
+            kept = carried_scatter(read_json(prev), conv)
+        except ResultFileError as exc:
+            print(f"{conv['case']}: the record it replaces cannot be read ({exc}): no sector "
+                  "scatter carried over (make sector-scatter keeps it again)")  # fmt: skip
     rec = {**conv, "recorded": {
         "date": utc_stamp(),
         "git_revision": git_revision(),
     }}  # fmt: skip
     if kept:
-        rec = reduce_study({**rec, "sector_scatter": kept})
-    write_json(dest / STUDY_FILE, rec)
-    if kept:
-        if not speed_error_chart(rec, dest / CHART):
-            (dest / CHART).unlink(missing_ok=True)
-        write_report(rec, dest)
-        return dest / STUDY_FILE
+        return _write_record({**rec, "sector_scatter": kept}, dest)
+    write_json(dest / STUDY_FILE, rec)  # reduced, reported and charted in ``folder``
     for name in ("report.md", CHART):
         if (folder / name).is_file():
             shutil.copyfile(folder / name, dest / name)
+    return dest / STUDY_FILE
+
+
+def _write_record(rec: dict, dest: Path) -> Path:
+    """Reduce ``rec`` by today's code and write it, its chart and report to ``dest``."""
+    rec = reduce_study(rec)
+    write_json(dest / STUDY_FILE, rec)
+    if not speed_error_chart(rec, dest / CHART):
+        (dest / CHART).unlink(missing_ok=True)
+    write_report(rec, dest)
     return dest / STUDY_FILE
 
 
@@ -293,13 +336,33 @@ def reduce_records(records: Path = RECORDS) -> list[Path]:
         conv = read_json(path)
         if "case_level" not in conv:
             conv["case_level"] = load_study_case(conv["case"]).model.level
-        conv = reduce_study(conv)
-        write_json(path, conv)
-        if not speed_error_chart(conv, path.parent / CHART):
-            (path.parent / CHART).unlink(missing_ok=True)
-        write_report(conv, path.parent)
-        done.append(path)
+        done.append(_write_record(conv, path.parent))
     return done
+
+
+def _record_of(case, records: Path, option: str) -> tuple[Path, dict]:
+    """(path, study) of ``case``'s record under ``records``, which must have its match key;
+    :class:`InputError` naming ``option`` otherwise."""
+    path = Path(records) / case.name / STUDY_FILE
+    if not path.is_file():
+        raise InputError(f"{option}: no record of {case.name} in {records}")
+    rec = read_json(path)
+    if rec.get("match") != match_key(case):
+        raise InputError(
+            f"{option}: the record {path} is of another gear set, scene or numerics than "
+            f"{case.name}'s (record it again)"
+        )
+    return path, rec
+
+
+def _same_inputs(case, row: dict, option: str) -> None:
+    """:class:`InputError` unless the record's run ``row`` was solved from ``case``'s inputs."""
+    have = (row.get("reuse_key") or {}).get("inputs_hash")
+    if have != inputs_hash(case):
+        raise InputError(
+            f"{option}: {case.name}'s inputs changed since the record (its inputs hash "
+            f"{(have or '?')[:12]}, today's {inputs_hash(case)[:12]}): record it again"
+        )
 
 
 def reproduce(args) -> dict:
@@ -311,35 +374,23 @@ def reproduce(args) -> dict:
     quote it beside the record's ± (:mod:`studies.uncertainty`). The run is kept under
     ``<out>/<case>/runs`` and reused by the next full study of the same code."""
     case = load_study_case(args.case)
-    path = Path(args.records) / case.name / STUDY_FILE
-    if not path.is_file():
-        raise InputError(f"--reproduce: no record of {case.name} in {args.records}")
-    rec = read_json(path)
-    if rec.get("match") != match_key(case):
-        raise InputError(
-            f"--reproduce: the record {path} is of another gear set, scene or numerics than "
-            f"{case.name}'s: nothing to reproduce (record it again)"
-        )
+    path, rec = _record_of(case, args.records, "--reproduce")
     label = run_label(args.reproduce, LADDER_DEGREE)
     old = next((r for r in rec.get("runs", []) if r.get("label") == label), None)
     if old is None or "error" in old:
         have = ", ".join(r.get("label", "?") for r in rec.get("runs", []) if "error" not in r)
         raise InputError(f"--reproduce {args.reproduce}: the record has no finished run "
                          f"{label} (it has {have})")  # fmt: skip
-    if old["reuse_key"].get("inputs_hash") != inputs_hash(case):
-        raise InputError(
-            f"--reproduce: {case.name}'s inputs changed since the record (its inputs hash "
-            f"{old['reuse_key'].get('inputs_hash', '?')[:12]}, today's "
-            f"{inputs_hash(case)[:12]}): record it again"
-        )
+    _same_inputs(case, old, "--reproduce")
     lad = rec["ladder"]
     args.positions, args.split_root_stress = lad["positions"], lad["split_root_stress"]
     ooc = bool(old["reuse_key"].get("out_of_core"))
-    args.ooc_runs = {(args.reproduce, LADDER_DEGREE)} if ooc else set()
+    run = (args.reproduce, LADDER_DEGREE, None)
+    args.ooc_runs = {run} if ooc else set()
     args.reduce_only = False
     folder = args.out / case.name
     (folder / "runs").mkdir(parents=True, exist_ok=True)
-    row = _one_run(args, case, args.reproduce, LADDER_DEGREE, folder)
+    row = _one_run(args, case, run, folder)
     _say(row)
     now = utc_stamp()
     entry = {"run": label, "code_hash": code_hash(), "git_revision": git_revision(), "date": now}
@@ -354,6 +405,61 @@ def reproduce(args) -> dict:
     write_report(rec, path.parent)
     print(f"{case.name}: {reproduction_text(entry)}; written to {path}", flush=True)
     return entry
+
+
+def add_to_record(args) -> Path:
+    """Solve the off-ladder run ``args.add_to_record`` (``L:D`` or ``L:D:F``) by today's code
+    as the record's ladder was solved (its positions and root-stress readings; out of core
+    with ``--out-of-core L:D[:F]`` naming it) and add it to the record: its runs and
+    labels, its ``ladder`` (so that ``--unless-recorded`` with this run among the
+    ``--extra`` finds the record) and the source hashes of its runs; then reduce the record
+    again (the run judged against the ladder's extrapolation,
+    :func:`postprocess.convergence_study.scalar_table`). The ladder keeps the code that
+    solved it, which the report names; that it stands for today's is what the record's
+    reproductions (``--reproduce``) show. A run of the record with this label is replaced;
+    a run that fails adds nothing (exit 1)."""
+    case = load_study_case(args.case)
+    option = "--add-to-record"
+    path, rec = _record_of(case, args.records, option)
+    run = _parse_extra(args.add_to_record, option)
+    label = run_label(*run)
+    _, degree, flank = run
+    if degree == LADDER_DEGREE and flank is None:
+        raise InputError(f"{option} {args.add_to_record}: {label} is a ladder run (give "
+                         "another degree or a flank level)")  # fmt: skip
+    finished = [r for r in rec.get("runs", []) if "error" not in r]
+    if not finished:
+        raise InputError(f"{option}: the record {path} has no finished run")
+    _same_inputs(case, finished[0], option)
+    lad = rec["ladder"]
+    args.positions, args.split_root_stress = lad["positions"], lad["split_root_stress"]
+    ooc = [x for x in args.out_of_core
+           if not x.isdigit() and _parse_extra(x, "--out-of-core") == run]  # fmt: skip
+    args.ooc_runs = {run} if ooc else set()
+    args.reduce_only = False
+    folder = args.out / case.name
+    (folder / "runs").mkdir(parents=True, exist_ok=True)
+    row = _one_run(args, case, run, folder)
+    _say(row)
+    if "error" in row:
+        log = folder / "runs" / f"{label}.log"
+        raise StudyFailed(f"{label} failed ({row['error']}; its log: {log}): nothing added "
+                          f"to {path}")  # fmt: skip
+    runs = [r for r in rec["runs"] if r.get("label") != label] + [row]
+    rec.update(
+        runs=runs,
+        labels=[r["label"] for r in runs if "error" not in r],
+        ladder={**lad, "runs": [*(x for x in lad["runs"] if x != label), label]},
+        runs_code_hash=sorted({r["reuse_key"]["code_hash"] for r in runs if "reuse_key" in r}),
+        code_hash=code_hash(),
+        skipped=[x for x in rec.get("skipped") or [] if x.get("label") != label],
+    )
+    added = {**rec.get("added", {}), label: {"date": utc_stamp(), "git_revision": git_revision(),
+                                             "code_hash": code_hash()}}  # fmt: skip
+    rec["added"] = added
+    out = _write_record(rec, path.parent)
+    print(f"added {label} to {out}", flush=True)
+    return out
 
 
 def study(args) -> Path | None:
@@ -372,30 +478,33 @@ def study(args) -> Path | None:
     folder = args.out / case.name
     (folder / "runs").mkdir(parents=True, exist_ok=True)
     rows, skipped = [], []
-    for level, degree in runs:
-        label = run_label(level, degree)
-        extra = degree != LADDER_DEGREE
+    for run in runs:
+        level, degree, flank = run
+        label = run_label(*run)
+        extra = degree != LADDER_DEGREE or flank is not None
         free = mem_available_gb()
-        if extra and args.reduce_only and _reused(args, case, level, degree, folder) is None:
+        which = {"label": label, "level": level, "degree": degree,
+                 **({} if flank is None else {"flank_level": flank})}  # fmt: skip
+        if extra and args.reduce_only and _reused(args, case, run, folder) is None:
             why = "no stored run of these inputs to reduce (--reduce-only)"
-            skipped.append({"label": label, "level": level, "degree": degree, "why": why})
+            skipped.append({**which, "why": why})
             print(f"{label}: skipped, {why}", flush=True)
             continue
-        in_core = (level, degree) not in args.ooc_runs  # out of core: a few GB, no gate
+        in_core = run not in args.ooc_runs  # out of core: a few GB, no gate
         if (
             extra
             and in_core
             and free < args.min_free_gb
-            and _reused(args, case, level, degree, folder) is None
+            and _reused(args, case, run, folder) is None
         ):
             why = (
                 f"MemAvailable {free:.1f} GB < {args.min_free_gb:g} GB asked for (--min-free-gb;"
                 " a level-0 P2 run of a case-1 branch peaks at about 14 GB)"
             )
-            skipped.append({"label": label, "level": level, "degree": degree, "why": why})
+            skipped.append({**which, "why": why})
             print(f"{label}: skipped, {why}", flush=True)
             continue
-        row = _one_run(args, case, level, degree, folder)
+        row = _one_run(args, case, run, folder)
         rows.append(row)
         _say(row)
     conv = {
@@ -451,7 +560,8 @@ def main(argv=None) -> int:
         nargs="*",
         default=["0:2"],
         metavar="L:D",
-        help="runs off the ladder, e.g. 0:2 (level 0, P2); none: --extra",
+        help="runs off the ladder, e.g. 0:2 (level 0, P2) or 1:1:2 (level 1 with level 2's "
+        "flanks and contact grid); none: --extra",
     )
     ap.add_argument("--positions", type=int, default=1, help="mesh positions per run")
     ap.add_argument("--out", type=Path, default=Path("results/convergence"))
@@ -506,14 +616,23 @@ def main(argv=None) -> int:
         help="solve the record's level-L run again by today's code (as recorded) and add "
         "the comparison of every scalar to the record (a record solved by other code)",
     )
+    ap.add_argument(
+        "--add-to-record",
+        metavar="L:D[:F]",
+        help="solve this off-ladder run by today's code as the record's ladder was solved "
+        "and add it to the record (e.g. 1:1:2: level 1 with level 2's flanks and contact grid; "
+        "with --out-of-core naming it too: its factors on disk)",
+    )
     ap.add_argument("--records", type=Path, default=RECORDS, help=argparse.SUPPRESS)
     ap.add_argument("--traceback", action="store_true", help="print tracebacks of errors")
     ap.add_argument("--out-of-core-run", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)
     ap.add_argument("--submodels", type=int, nargs="*", default=[], help=argparse.SUPPRESS)
+    ap.add_argument("--flank-level", type=int, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one:
         case, level, degree, n = args.one
+        flank = args.flank_level
         return guarded(
             lambda: print_row(
                 solve_run(
@@ -523,6 +642,7 @@ def main(argv=None) -> int:
                     int(n),
                     numerics={"out_of_core": True} if args.out_of_core_run else None,
                     submodel_levels=tuple(args.submodels),
+                    flank_level=flank,
                 )
             ),
             traceback=True,
@@ -538,6 +658,8 @@ def main(argv=None) -> int:
         ap.error("give the case: python -m studies.convergence 1-GB")
     if args.reproduce is not None:
         return guarded(lambda: reproduce(args), traceback=args.traceback)
+    if args.add_to_record is not None:
+        return guarded(lambda: add_to_record(args), traceback=args.traceback)
     return guarded(lambda: study(args), traceback=args.traceback)
 
 

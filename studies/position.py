@@ -111,6 +111,7 @@ def solve_position(
     submodel_levels: tuple[int, ...] = (),
     own_sectors: bool = True,
     sector_log: Callable[[str], None] | None = None,
+    flank_level: int | None = None,
 ) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
     (``model.level``, ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
@@ -128,7 +129,10 @@ def solve_position(
     the submodel ladder of a convergence study (:mod:`studies.convergence`); ``own_sectors``:
     False skips the read on the level's own sectors (``bending_stress`` None, for a
     diagnostic that reads ``submodel_levels`` only); ``sector_log``: called with a line per
-    root-stress sector solved (a ladder run's log; every rank)."""
+    root-stress sector solved (a ladder run's log; every rank); ``flank_level``: the active
+    teeth's flank elements (and so the default contact grid) at that level's size, every
+    other size and the root-stress sectors those of ``level``
+    (:func:`meshing.sizing.with_flanks`)."""
     store = BodyStore() if store is None else store
     store.begin_position()
     num = study.numerics
@@ -136,8 +140,9 @@ def solve_position(
     degree = num.degree if degree is None else degree
     if spacing is None:
         spacing = num.grid_spacing
+    sizes = level if flank_level is None else sizing.with_flanks(level, flank_level)
     if spacing is None:  # default: the flank element size of the level
-        spacing = sizing.check_level(level).fine
+        spacing = sizing.check_level(sizes).fine
     penalty = num.penalty_factor if penalty_factor is None else penalty_factor
     t0 = time.perf_counter()
     _stage(progress, "scene")
@@ -145,7 +150,7 @@ def solve_position(
     check_root_stress(study, scene)
     t_scene = time.perf_counter()
     _stage(progress, "meshes")
-    meshes = load_body_meshes(scene, level, comm, store.mesh_memo)
+    meshes = load_body_meshes(scene, sizes, comm, store.mesh_memo)
     t_meshes = time.perf_counter()
     _stage(progress, "model")
     model = build_gear_train(scene, meshes, study, degree=degree, spacing=spacing,
@@ -201,6 +206,7 @@ def solve_position(
         ranks=comm.size,
         level=level,
         degree=degree,
+        **({} if flank_level is None else {"flank_level": flank_level}),
         grid_spacing_mm=spacing,
         penalty_factor=penalty,
         timings={

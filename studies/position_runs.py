@@ -90,13 +90,16 @@ def solve_run(
     positions: int,
     numerics: dict | None = None,
     submodel_levels: tuple[int, ...] = (),
+    flank_level: int | None = None,
 ) -> dict:
     """Solve ``positions`` equally spaced mesh positions of ``case`` (serial, bodies reused
     across them) at ``level``/``degree``; the run's row (see the module docstring).
     ``numerics``: fields of the case's ``[numerics]`` replaced for this run (validated as in
     a case file); ``submodel_levels``: the root stress read also on the submodels of these
     levels at the same global solutions, in the row's ``fillet_scalars`` keyed by their fillet
-    (:func:`fillet_scalars`; timed apart, not in the run's time)."""
+    (:func:`fillet_scalars`; timed apart, not in the run's time); ``flank_level``: the
+    active flanks and contact grid at that level's size (:func:`meshing.sizing.with_flanks`;
+    the row keeps it, an off-ladder run)."""
     study = load_study_case(case)
     if numerics:
         try:
@@ -126,6 +129,7 @@ def solve_run(
             submodel_levels=tuple(submodel_levels),
             progress=progress,
             sector_log=progress,
+            flank_level=flank_level,
         )
         for roll in roll_angles(study, positions)
     ]
@@ -135,6 +139,8 @@ def solve_run(
     before = [p["timings"].get("peak_rss_mb_before_ladder") for p in solved]
     peak = max(before) if all(v is not None for v in before) else peak_rss_mb()
     lv = sizing.check_level(level)
+    if flank_level is not None:
+        lv = sizing.with_flanks(level, flank_level)
     # the fillets the root stress is read on: the submodel's, or the global model's
     sub = study.numerics.root_stress == "submodel"
     read_fillet = submodel_level(level).fillet if sub else lv.fillet
@@ -142,6 +148,7 @@ def solve_run(
     return {
         "level": level,
         "degree": degree,
+        **({} if flank_level is None else {"flank_level": flank_level}),
         "positions": positions,
         "rolls": [p["roll"] for p in solved],
         "dofs": int(solved[0]["dofs"]),

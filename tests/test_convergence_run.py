@@ -94,3 +94,21 @@ def test_a_submodel_reading_at_the_own_fillet_repeats_the_run(level0):
     for k in keys:  # the same submodel mesh, driver, loads and first guess
         assert again[k] == pytest.approx(row["scalars"][k], rel=1e-6), k
     assert row["fillet_ladder_s"] > 0.0
+
+
+def test_a_run_with_the_next_levels_flanks_refines_the_flanks_and_grid_only(level0):
+    """A level-0 run with level 1's flanks (``--extra 0:1:1``): its flank elements and
+    contact grid are level 1's, its fillets and root-stress sectors level 0's. Level 0's
+    moments move by 1.5-2 % to level 1's, most of it from the flanks (studies.driver_sizes):
+    the run's moments differ from level 0's but stay within that step's size."""
+    from meshing.sizing import LEVELS
+
+    _, _, row, _, _ = level0
+    fine = solve_run("1-GA", 0, 1, 1, flank_level=1)
+    assert fine["flank_level"] == 1 and fine["level"] == 0
+    assert fine["h_mm"]["fine"] == LEVELS[1].fine
+    assert fine["h_mm"]["fillet"] == row["h_mm"]["fillet"] == submodel_level(0).fillet
+    assert fine["dofs"] > row["dofs"] and fine["grid_points_total"] > row["grid_points_total"]
+    for key in ("My_pin", "M_LOA_sun", "M_LOA_ring"):
+        a, b = row["scalars"][key], fine["scalars"][key]
+        assert a != b and abs(b - a) < 0.05 * abs(a), key  # 5 %: over twice the step's size

@@ -9,10 +9,11 @@ from dataclasses import replace
 import pytest
 
 from cases.study_case import load_study_case
-from meshing.sizing import LEVELS, with_fillet
+from meshing.sizing import LEVELS, MeshingError, with_fillet, with_flanks
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import (
     compare_runs,
+    ladder,
     recommend,
     reduce_study,
     scalar_table,
@@ -66,6 +67,56 @@ def _row(level: int, degree: int, seconds: float, gb: float) -> dict:
 
 
 ROWS = [_row(0, 1, 10, 3.5), _row(1, 1, 20, 4.5), _row(2, 1, 110, 9.9), _row(0, 2, 130, 14)]
+
+
+def _flank_row(seconds: float = 30.0) -> dict:
+    """Level 1 with level 2's flanks (L1P1F2): in the synthetic scalars every flank-read
+    value is level 2's and every fillet-read one level 1's."""
+    row = _row(1, 1, seconds, 5.0)
+    two, one = _row(2, 1, 0, 0)["scalars"], row["scalars"]
+    scalars = {k: (one if k.startswith("bending_stress") else two)[k] for k in one}
+    return {**row, "label": "L1P1F2", "flank_level": 2, "scalars": scalars,
+            "h_mm": {"fine": LEVELS[2].fine, "fillet": LEVELS[1].fillet}}  # fmt: skip
+
+
+def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
+    """L1P1F2 (level 1 with level 2's flanks and contact grid, the candidate default where
+    level 1's errors come from the flanks and grid) does not enter the ladder: it is judged
+    against the ladder's extrapolation like a P2 run, and can be the recommended run."""
+    from postprocess.run_scalars import row_label, run_label
+
+    assert with_flanks(1, 2) == replace(LEVELS[1], fine=LEVELS[2].fine)
+    with pytest.raises(MeshingError, match="level = 9"):
+        with_flanks(1, 9)
+    assert run_label(1, 1) == "L1P1" and run_label(1, 1, 2) == "L1P1F2"
+    flank = _flank_row()
+    assert row_label(flank) == "L1P1F2" and row_label(ROWS[1]) == "L1P1"
+    rows = [*ROWS[:3], flank]
+    lad, others = ladder(rows)
+    assert lad == ROWS[:3] and others == [flank]
+    table, plain = scalar_table(rows), scalar_table(ROWS[:3])
+    for key in ("My_pin", "M_LOA_sun", "bending_stress.sun"):
+        e = table[key]
+        assert e["extrapolated"] == plain[key]["extrapolated"]  # the ladder's alone
+        # error against the extrapolation: a flank-read value level 2's, a fillet one level 1's
+        like = "L1P1" if key.startswith("bending_stress") else "L2P1"
+        assert e["rel_error"]["L1P1F2"] == pytest.approx(e["rel_error"][like], rel=1e-9)
+        err_abs = abs(e["values"]["L1P1F2"] - e["extrapolated"])
+        assert e["uncertainty_abs"]["L1P1F2"] == pytest.approx(1.25 * err_abs)
+    rec = recommend(rows, table)
+    (v,) = [v for v in rec["runs"] if v["run"] == "L1P1F2"]
+    assert v["flank_level"] == 2 and v["meets"]
+    assert not next(v for v in rec["runs"] if v["run"] == "L1P1")["meets"]  # My_pin 1.8 %
+    # cheaper than level 2 (30 against 110 s) and within every target: recommended
+    assert rec["recommended"] == {"run": "L1P1F2", "level": 1, "degree": 1, "flank_level": 2,
+                                  "time_s": 30.0, "peak_rss_mb": 5.0 * 1024}  # fmt: skip
+    conv = {"case": "1-GB", "match": {"gearset": "case1", "scene": "one_branch"},
+            "positions_note": "One position.", "ladder_degree": 1, "runs": rows,
+            "labels": [r["label"] for r in rows], "scalars": table,
+            "recommendation": rec}  # fmt: skip
+    text = write_report(conv, tmp_path).read_text()
+    assert "| L1P1F2 | 1 (flanks and grid of 2) | 1 |" in text
+    assert "Off the ladder: L1P1F2 (level 1 (flanks and grid of 2), degree 1)" in text
 
 
 def test_table_extrapolates_each_scalar_with_its_own_h():
@@ -503,7 +554,7 @@ def _stored_runs(folder, case, code: str, ooc: tuple[int, ...] = ()) -> None:
 
     (folder / "runs").mkdir(parents=True)
     for row in ROWS[:3]:
-        key = {**_reuse_key(case, row["level"], row["degree"], 1), "code_hash": code}
+        key = {**_reuse_key(case, (row["level"], row["degree"], None), 1), "code_hash": code}
         if row["level"] in ooc:
             key["out_of_core"] = True
         else:
@@ -748,8 +799,9 @@ def test_the_ladder_runs_read_the_two_submodel_ladders():
     study = load_study_case("1-GB")  # level 1: its sector at level 2's sizes, 0.15 mm
     assert study.model.level == 1
     assert submodel_level(1) == with_fillet(2, 0.15)
-    assert submodel_levels(study, 1, 1) == (2, 3)  # the submodel ladder, driver fixed
-    assert submodel_levels(study, 0, 1) == submodel_levels(study, 2, 1) == (1,)  # driver
+    assert submodel_levels(study, (1, 1, None)) == (2, 3)  # the submodel ladder, driver fixed
+    driver = (1,)  # the driver ladder at the case level's sector
+    assert submodel_levels(study, (0, 1, None)) == submodel_levels(study, (2, 1, None)) == driver
     # the whole sector refines along the submodel ladder, its fillet the finest part
     subs = [submodel_level(k) for k in (1, 2, 3)]
     assert [s.fillet for s in subs] == [0.15, 0.1, 0.08]
@@ -757,15 +809,16 @@ def test_the_ladder_runs_read_the_two_submodel_ladders():
     # a level-0 case reads the two finer sectors too; a level-2 case has one finer sector
     # (levels 3 and 4 share theirs) and reads one coarser
     at = {k: replace(study, model=replace(study.model, level=k)) for k in range(len(LEVELS))}
-    assert submodel_levels(at[0], 0, 1) == (1, 2)
-    assert submodel_levels(at[2], 2, 1) == (1, 3)
+    assert submodel_levels(at[0], (0, 1, None)) == (1, 2)
+    assert submodel_levels(at[2], (2, 1, None)) == (1, 3)
     # the finest level reads its own sizes; a case there reads the two coarser sectors
     top = len(LEVELS) - 1
     assert submodel_level(top) == submodel_level(top - 1) == with_fillet(top, 0.08)
-    assert submodel_levels(at[top], top, 1) == (top - 3, top - 2)
-    assert submodel_levels(study, 0, 2) == ()  # off the ladder
+    assert submodel_levels(at[top], (top, 1, None)) == (top - 3, top - 2)
+    assert submodel_levels(study, (0, 2, None)) == ()  # off the ladder
+    assert submodel_levels(study, (1, 1, 2)) == ()  # level 2's flanks: off the ladder
     glob = global_root_stress(study)
-    assert submodel_levels(glob, 1, 1) == ()
+    assert submodel_levels(glob, (1, 1, None)) == ()
 
 
 # ---------------------------------------------------------------- the reductions' findings
@@ -966,7 +1019,8 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     conv_mod.record(folder, conv, records)
     asked = []
 
-    def child(args, study, level, degree, where):
+    def child(args, study, run, where):
+        level, degree, _ = run
         asked.append((level, degree, args.positions, args.split_root_stress, args.ooc_runs))
         row = dict(runs[level])
         if len(asked) > 1:  # the second time one scalar moves
@@ -1000,3 +1054,67 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     assert main(["1-GC", "--reproduce", "0", "--records", str(records), "--out", str(out)]) == 2
     assert "1-GC's inputs changed since the record" in capsys.readouterr().err
     assert len(asked) == 2
+
+
+def test_add_to_record_solves_an_off_ladder_run_and_the_record_stands_for_it(
+    tmp_path, monkeypatch, capsys
+):
+    """--add-to-record 1:1:2 solves the run by today's code as the record's ladder was
+    solved and adds it: the record's runs, its ladder (so a make asking for the same extra
+    finds it), the codes of its runs, the verdict and the report; a failed run adds nothing
+    (exit 1); a ladder run or a bad run is refused (exit 2)."""
+    import studies.convergence as conv_mod
+    from studies.convergence import main
+    from studies.provenance import code_hash
+
+    case = load_study_case("1-GB")
+    records, out, folder = tmp_path / "records", tmp_path / "out", tmp_path / "study"
+    _stored_runs(folder, case, "1" * 16)
+    runs = [read_json(folder / "runs" / f"{r['label']}.json") for r in ROWS[:3]]
+    lad = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
+    conv = reduce_study({"case": "1-GB", "match": match_key(case), "labels": lad["runs"],
+                         "positions": 1, "code_hash": "1" * 16, "runs_code_hash": ["1" * 16],
+                         "ladder": lad, "runs": runs, "case_level": 1, "ladder_degree": 1,
+                         "description": "normal bearing", "positions_note": "one position",
+                         "skipped": [], "machine": {"cpus": 2}})  # fmt: skip
+    conv_mod.record(folder, conv, records)
+    path = records / "1-GB" / STUDY_FILE
+    asked, outcome = [], {}
+
+    def child(args, study, run, where):
+        asked.append((run, args.positions, args.split_root_stress, args.ooc_runs))
+        key = {**conv_mod._reuse_key(study, run, 1), "code_hash": code_hash()}
+        return {**_flank_row(), "reuse_key": key, "reused": False, **outcome}
+
+    monkeypatch.setattr(conv_mod, "_one_run", child)
+    argv = ["1-GB", "--records", str(records), "--out", str(out), "--add-to-record"]
+    assert main([*argv, "1:1:2", "--out-of-core", "1:1:2"]) == 0
+    assert asked == [((1, 1, 2), 1, True, {(1, 1, 2)})]
+    rec = read_json(path)
+    assert rec["labels"] == ["L0P1", "L1P1", "L2P1", "L1P1F2"]
+    assert rec["ladder"]["runs"] == ["L0P1", "L1P1", "L2P1", "L1P1F2"]
+    assert rec["runs_code_hash"] == sorted(["1" * 16, code_hash()])
+    assert rec["added"]["L1P1F2"]["code_hash"] == code_hash()
+    assert rec["recommendation"]["recommended"]["run"] == "L1P1F2"
+    # the ladder's extrapolation is the record's own, not moved by the added run
+    assert rec["scalars"]["My_pin"]["extrapolated"] == conv["scalars"]["My_pin"]["extrapolated"]
+    text = (records / "1-GB" / "report.md").read_text()
+    assert "L1P1F2 was added to the record on" in text
+    assert f"The ladder's runs were solved by code {'1' * 16}" in text
+    # a make asking for the ladder with this extra finds the record; without it, not
+    assert recorded(case, rec["ladder"], records) == path
+    assert recorded(case, lad, records) is None
+    # again: replaced, not doubled
+    assert main([*argv, "1:1:2"]) == 0
+    assert read_json(path)["labels"].count("L1P1F2") == 1
+    # a failed run adds nothing
+    before = path.read_text()
+    outcome = {"error": "exit code -9 (signal 9, e.g. killed out of memory)"}
+    assert main([*argv, "0:2"]) == 1
+    assert "L0P2 failed" in capsys.readouterr().err and path.read_text() == before
+    # refused: a ladder run, the same level as flank level, a level out of range
+    for bad, why in (("1:1", "is a ladder run"), ("1:1:1", "must differ"),
+                     ("1:1:9", "flank level"), ("1-1", "LEVEL:DEGREE")):  # fmt: skip
+        assert main([*argv, bad]) == 2
+        assert why in capsys.readouterr().err
+    assert len(asked) == 3

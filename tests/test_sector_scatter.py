@@ -261,6 +261,23 @@ def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
     assert (records / "1-GB" / "report.md").read_text().startswith("# the study, reduced")
 
 
+def test_a_record_replacing_an_unreadable_one_carries_nothing_and_says_so(tmp_path, capsys):
+    """A damaged record file does not stop a ladder's new record after hours of solving
+    (before: exit 3 after the ladder); it carries no scatter and says so."""
+    from studies.convergence import record
+
+    records = tmp_path / "records"
+    shutil.copytree(RECORDS / "1-GB", records / "1-GB")
+    path = records / "1-GB" / "convergence.json"
+    new = {k: v for k, v in read_json(path).items() if k not in ("sector_scatter", "recorded")}
+    path.write_text('{"cut off')
+    study = tmp_path / "study"
+    study.mkdir()
+    rec = read_json(record(study, new, records))
+    assert "sector_scatter" not in rec and rec["recorded"]["date"]
+    assert "cannot be read" in capsys.readouterr().out
+
+
 def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path):
     """make sector-scatter keeps the scatter with the record; the same ladder's study under
     this machine's results (the same runs, so solved by the same code) stands before the
