@@ -252,6 +252,16 @@ reproduce-records: $(STAMP) ## solve the records' level-0 runs again by today's 
 	$(PY) -m studies.convergence 1-GB --reproduce 0 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 	$(PY) -m studies.convergence 2B-GA --reproduce 0 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 
+# An off-ladder run solved by today's code and added to a case's record (judged against the
+# record's extrapolation; the record's ladder keeps the code that solved it): RUN=L:D (another
+# degree) or L:D:F (level L with level F's flanks and contact grid, the main ladders' 1:1:2).
+RUN ?= 1:1:2
+.PHONY: add-to-record
+add-to-record: $(STAMP) ## an off-ladder run added to a record: make add-to-record CASE=1-GB RUN=1:1:2 [OOC=1:1:2]
+	@[ -n "$(CASE)" ] || { echo "error: give the case: make add-to-record CASE=1-GB RUN=1:1:2" >&2; exit 2; }
+	$(PY) -m studies.convergence $(CASE) --add-to-record $(RUN) $(if $(OOC),--out-of-core $(OOC)) \
+	  --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
+
 # The case-1 speed-against-error benchmark is the convergence study of 1-GB (with P2).
 bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
 	@$(MAKE) --no-print-directory convergence CASE=1-GB CONV_EXTRA=0:2

@@ -365,6 +365,20 @@ def _same_inputs(case, row: dict, option: str) -> None:
         )
 
 
+def _solve_as_recorded(args, case, rec: dict, run: Run, ooc: bool) -> dict:
+    """The row of ``run`` solved (or reused, :func:`_one_run`) as the record ``rec``'s ladder
+    was (its positions and root-stress readings), its factors on disk with ``ooc``."""
+    lad = rec["ladder"]
+    args.positions, args.split_root_stress = lad["positions"], lad["split_root_stress"]
+    args.ooc_runs = {run} if ooc else set()
+    args.reduce_only = False
+    folder = args.out / case.name
+    (folder / "runs").mkdir(parents=True, exist_ok=True)
+    row = _one_run(args, case, run, folder)
+    _say(row)
+    return row
+
+
 def reproduce(args) -> dict:
     """Solve the recorded run at level ``args.reproduce`` again by today's code, as the
     record solved it (its positions, submodel readings, out of core or not), compare every
@@ -382,16 +396,8 @@ def reproduce(args) -> dict:
         raise InputError(f"--reproduce {args.reproduce}: the record has no finished run "
                          f"{label} (it has {have})")  # fmt: skip
     _same_inputs(case, old, "--reproduce")
-    lad = rec["ladder"]
-    args.positions, args.split_root_stress = lad["positions"], lad["split_root_stress"]
-    ooc = bool(old["reuse_key"].get("out_of_core"))
     run = (args.reproduce, LADDER_DEGREE, None)
-    args.ooc_runs = {run} if ooc else set()
-    args.reduce_only = False
-    folder = args.out / case.name
-    (folder / "runs").mkdir(parents=True, exist_ok=True)
-    row = _one_run(args, case, run, folder)
-    _say(row)
+    row = _solve_as_recorded(args, case, rec, run, bool(old["reuse_key"].get("out_of_core")))
     now = utc_stamp()
     entry = {"run": label, "code_hash": code_hash(), "git_revision": git_revision(), "date": now}
     if "error" in row:
@@ -431,18 +437,12 @@ def add_to_record(args) -> Path:
     if not finished:
         raise InputError(f"{option}: the record {path} has no finished run")
     _same_inputs(case, finished[0], option)
-    lad = rec["ladder"]
-    args.positions, args.split_root_stress = lad["positions"], lad["split_root_stress"]
     ooc = [x for x in args.out_of_core
            if not x.isdigit() and _parse_extra(x, "--out-of-core") == run]  # fmt: skip
-    args.ooc_runs = {run} if ooc else set()
-    args.reduce_only = False
-    folder = args.out / case.name
-    (folder / "runs").mkdir(parents=True, exist_ok=True)
-    row = _one_run(args, case, run, folder)
-    _say(row)
+    lad = rec["ladder"]
+    row = _solve_as_recorded(args, case, rec, run, bool(ooc))
     if "error" in row:
-        log = folder / "runs" / f"{label}.log"
+        log = args.out / case.name / "runs" / f"{label}.log"
         raise StudyFailed(f"{label} failed ({row['error']}; its log: {log}): nothing added "
                           f"to {path}")  # fmt: skip
     runs = [r for r in rec["runs"] if r.get("label") != label] + [row]
