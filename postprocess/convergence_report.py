@@ -58,6 +58,12 @@ def _level(r: dict) -> str:
     return f"{r['level']}" if f is None else f"{r['level']} (flanks and grid of {f})"
 
 
+def _in_words(r: dict) -> str:
+    f = r.get("flank_level")
+    flanks = "" if f is None else f" with level {f}'s flanks and contact grid"
+    return f"level {r['level']}{flanks}, degree {r['degree']}"
+
+
 def _runs_table(conv: dict) -> list[str]:
     lines = [
         "| run | level | degree | DOFs | grid points | total (s) | scene, meshes (s) | bodies (s)"
@@ -296,7 +302,7 @@ def _off_ladder(conv: dict) -> list[str]:
         return []
     lines = [
         "Off the ladder: "
-        + ", ".join(f"{r['label']} (level {_level(r)}, degree {r['degree']})" for r in off)
+        + ", ".join(f"{r['label']} ({_in_words(r)})" for r in off)
         + ". Each is judged against the ladder's extrapolation X: error = (value - X) / |X|, "
         "U = 1.25 |value - X| relative to the value (at least the sector scatter for a root "
         "stress read on a sector); without an X, the spread of the ladder and its value.",

@@ -116,7 +116,9 @@ def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
             "recommendation": rec}  # fmt: skip
     text = write_report(conv, tmp_path).read_text()
     assert "| L1P1F2 | 1 (flanks and grid of 2) | 1 |" in text
-    assert "Off the ladder: L1P1F2 (level 1 (flanks and grid of 2), degree 1)" in text
+    assert (
+        "Off the ladder: L1P1F2 (level 1 with level 2's flanks and contact grid, degree 1)" in text
+    )
 
 
 def test_table_extrapolates_each_scalar_with_its_own_h():
