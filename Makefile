@@ -257,7 +257,8 @@ reproduce-records: $(STAMP) ## solve the records' level-0 runs again by today's 
 
 # An off-ladder run solved by today's code and added to a case's record (judged against the
 # record's extrapolation; the record's ladder keeps the code that solved it): RUN=L:D (another
-# degree) or L:D:F (level L with level F's flanks and contact grid, the main ladders' 1:1:2).
+# degree), L:D:F (level L with level F's flanks and contact grid, the main ladders' 1:1:2) or
+# L:D:F:R (and level R's refined fillets).
 RUN ?= 1:1:2
 .PHONY: add-to-record
 add-to-record: $(STAMP) ## an off-ladder run added to a record: make add-to-record CASE=1-GB RUN=1:1:2 [OOC=1:1:2]

@@ -131,15 +131,22 @@ def with_fillet(level, fillet: float) -> Level:
     return check_level(replace(check_level(level), fillet=fillet))
 
 
-def with_flanks(level: int, flank_level: int) -> Level:
+def with_sizes(
+    level: int, flank_level: int | None = None, fillet_level: int | None = None
+) -> Level:
     """The sizes of ``level`` with the flank elements of the active teeth at level
-    ``flank_level``'s (both indices of :data:`LEVELS`): an off-ladder run of a convergence
-    study (:mod:`studies.convergence`, ``--extra L:D:F``), whose contact grid follows the
-    flank size as at every level (:func:`studies.position.solve_position`). The fillets,
-    the other teeth and the body keep ``level``'s sizes, and the root stress is read on
-    ``level``'s sector (:func:`meshing.submodel.submodel_level` of the index)."""
-    check_level(flank_level)
-    return check_level(replace(check_level(level), fine=LEVELS[flank_level].fine))
+    ``flank_level``'s and the named fine fillets at level ``fillet_level``'s (indices of
+    :data:`LEVELS`; None keeps ``level``'s): an off-ladder run of a convergence study
+    (:mod:`studies.convergence`, ``--extra L:D:F[:R]``), whose contact grid follows the
+    flank size as at every level (:func:`studies.position.solve_position`). The other
+    teeth, the other fillets and the body keep ``level``'s sizes, and the root stress is
+    read on ``level``'s sector (:func:`meshing.submodel.submodel_level` of the index)."""
+    lv = check_level(level)
+    if flank_level is not None:
+        lv = replace(lv, fine=check_level(flank_level).fine)
+    if fillet_level is not None:
+        lv = replace(lv, fillet=check_level(fillet_level).fillet)
+    return check_level(lv)
 
 
 def level_record(level) -> int | dict:

@@ -17,7 +17,7 @@ from matplotlib.ticker import FormatStrFormatter, FuncFormatter, NullFormatter, 
 
 from postprocess.convergence import NEAR_ZERO, SAFETY_TWO_GRID, reproduction_text
 from postprocess.convergence_study import CG_NOISE, P_CAP
-from postprocess.run_scalars import row_label
+from postprocess.run_scalars import row_label, variant
 
 CHART = "speed_error.png"
 
@@ -51,17 +51,20 @@ def _memory(conv: dict, label: str, mb: float) -> str:
     return f"{mb / 1024:.1f}" + (" (factors on disk)" if label in _out_of_core(conv) else "")
 
 
+#: what a run's sizes of another level are, in words (:func:`meshing.sizing.with_sizes`)
+VARIANT_WORDS = {"flank_level": "flanks and grid", "fillet_level": "refined fillets"}
+
+
 def _level(r: dict) -> str:
-    """A run's level, and where its flanks are another level's (:func:`meshing.sizing.
-    with_flanks`)."""
-    f = r.get("flank_level")
-    return f"{r['level']}" if f is None else f"{r['level']} (flanks and grid of {f})"
+    """A run's level, and which of its sizes are another level's."""
+    other = "; ".join(f"{VARIANT_WORDS[k]} of {v}" for k, v in variant(r).items())
+    return f"{r['level']}" + (f" ({other})" if other else "")
 
 
 def _in_words(r: dict) -> str:
-    f = r.get("flank_level")
-    flanks = "" if f is None else f" with level {f}'s flanks and contact grid"
-    return f"level {r['level']}{flanks}, degree {r['degree']}"
+    other = " and ".join(f"level {v}'s {VARIANT_WORDS[k]}" for k, v in variant(r).items())
+    other = other.replace("flanks and grid", "flanks and contact grid")
+    return f"level {r['level']}" + (f" with {other}" if other else "") + f", degree {r['degree']}"
 
 
 def _runs_table(conv: dict) -> list[str]:
@@ -296,7 +299,7 @@ def _runs_code(conv: dict) -> list[str]:
 def _off_ladder(conv: dict) -> list[str]:
     """How the runs off the ladder are judged, and which were added to a record later
     (``python -m studies.convergence CASE --add-to-record L:D:F``) by which code."""
-    off = [r for r in conv["runs"] if "error" not in r and (r.get("flank_level") is not None
+    off = [r for r in conv["runs"] if "error" not in r and (variant(r)
            or r.get("degree") != conv.get("ladder_degree"))]  # fmt: skip
     if not off:
         return []
@@ -332,7 +335,7 @@ def _missing_scalars(conv: dict) -> list[str]:
     absent at level 2): the study has no ± for them, and a targeted one fails the verdict of
     the run that lacks it (:func:`postprocess.convergence_study.recommend`)."""
     ladder = [r for r in conv["runs"] if "error" not in r and r.get("degree") ==
-              conv.get("ladder_degree") and r.get("flank_level") is None]  # fmt: skip
+              conv.get("ladder_degree") and not variant(r)]  # fmt: skip
     have = {row_label(r): set(r.get("scalars") or {}) for r in ladder}
     every = set().union(*have.values()) if have else set()
     missing = {k: [lab for lab, keys in have.items() if k not in keys] for k in sorted(every)}

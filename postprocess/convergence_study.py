@@ -47,7 +47,7 @@ from postprocess.convergence import (
     two_grid,
 )
 from postprocess.paper_moments import DIFFERENTIALS
-from postprocess.run_scalars import row_label, scalar_kind, unit
+from postprocess.run_scalars import VARIANT_KEYS, row_label, scalar_kind, unit, variant
 from postprocess.sector_scatter import scatter_floors
 
 P_CAP = 2.0
@@ -274,9 +274,10 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
 
 def ladder(rows: list[dict], degree: int = 1) -> tuple[list[dict], list[dict]]:
     """The three finest finished h-levels of ``degree`` (coarse to fine) and the other
-    finished runs (other degrees, and runs with another level's flanks, ``flank_level``)."""
+    finished runs (other degrees, and runs with sizes of other levels,
+    :func:`postprocess.run_scalars.variant`)."""
     ok = [r for r in rows if "error" not in r]
-    on = [r for r in ok if r["degree"] == degree and r.get("flank_level") is None]
+    on = [r for r in ok if r["degree"] == degree and not variant(r)]
     levels = sorted(on, key=lambda r: r["level"])[-3:]
     return levels, [r for r in ok if r not in levels]
 
@@ -465,7 +466,7 @@ def recommend(rows: list[dict], table: dict[str, dict]) -> dict:
                 "run": label,
                 "level": r["level"],
                 "degree": r["degree"],
-                **({} if r.get("flank_level") is None else {"flank_level": r["flank_level"]}),
+                **variant(r),
                 "time_s": r["time_s"]["total"],
                 "peak_rss_mb": r["peak_rss_mb"],
                 "meets": not (failing or missing or no_bound) and bool(worst),
@@ -487,7 +488,7 @@ def recommend(rows: list[dict], table: dict[str, dict]) -> dict:
 
 
 #: what the recommendation keeps of the chosen run
-RECOMMENDED = ("run", "level", "degree", "flank_level", "time_s", "peak_rss_mb")
+RECOMMENDED = ("run", "level", "degree", *VARIANT_KEYS, "time_s", "peak_rss_mb")
 
 
 def _note(best: dict | None, verdicts: list[dict]) -> str:

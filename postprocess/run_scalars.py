@@ -97,12 +97,29 @@ def lookup(tree: Mapping, key: str):
     return tree
 
 
-def run_label(level: int, degree: int, flank_level: int | None = None) -> str:
+def run_label(
+    level: int, degree: int, flank_level: int | None = None, fillet_level: int | None = None
+) -> str:
     """``L<level>P<degree>``, with ``F<flank_level>`` for a run whose active flanks and
-    contact grid are those of another level (:func:`meshing.sizing.with_flanks`)."""
-    return f"L{level}P{degree}" + ("" if flank_level is None else f"F{flank_level}")
+    contact grid are those of another level and ``R<fillet_level>`` for one whose refined
+    (read) fillets are (:func:`meshing.sizing.with_sizes`)."""
+    return (
+        f"L{level}P{degree}"
+        + ("" if flank_level is None else f"F{flank_level}")
+        + ("" if fillet_level is None else f"R{fillet_level}")
+    )
+
+
+#: the sizes a convergence run may take from another level (:func:`meshing.sizing.with_sizes`)
+VARIANT_KEYS = ("flank_level", "fillet_level")
+
+
+def variant(row: Mapping) -> dict[str, int]:
+    """The sizes a run row takes from other levels (``flank_level``, ``fillet_level``); empty
+    for a run of the ladder's sizes."""
+    return {k: row[k] for k in VARIANT_KEYS if row.get(k) is not None}
 
 
 def row_label(row: Mapping) -> str:
     """The :func:`run_label` of a convergence study's run row."""
-    return run_label(row["level"], row["degree"], row.get("flank_level"))
+    return run_label(row["level"], row["degree"], row.get("flank_level"), row.get("fillet_level"))

@@ -64,7 +64,7 @@ from meshing.submodel import submodel_level
 from postprocess.convergence import reproduction_text
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import compare_runs, reduce_study
-from postprocess.run_scalars import run_label
+from postprocess.run_scalars import VARIANT_KEYS, run_label
 from postprocess.sector_scatter import carried_scatter
 from studies.cli import InputError, StudyFailed, guarded
 from studies.files import ResultFileError, read_json, write_json
@@ -86,18 +86,25 @@ POSITIONS_NOTE = {
 }
 
 
-#: a run of a study: (level, degree, flank level or None; :func:`meshing.sizing.with_flanks`)
-Run = tuple[int, int, int | None]
+#: a run of a study: (level, degree, flank level, fillet level), the last two None for the
+#: ladder's own sizes (:func:`meshing.sizing.with_sizes`)
+Run = tuple[int, int, int | None, int | None]
+
+
+def _variant(run: Run) -> dict[str, int]:
+    """The sizes ``run`` takes from other levels, as its row keeps them."""
+    return {k: v for k, v in zip(VARIANT_KEYS, run[2:], strict=True) if v is not None}
 
 
 def _reuse_key(study, run: Run, positions: int, split: bool = False, ooc: bool = False) -> dict:
-    level, degree, flank = run
+    level, degree, flank, fillet = run
     return {
         "inputs_hash": inputs_hash(study),
         "code_hash": code_hash(),
         "level": level,
         "degree": degree,
         "flank_level": flank,
+        "fillet_level": fillet,
         "positions": positions,
         "submodel_levels": list(submodel_levels(study, run) if split else ()),
         # the same answer, but another time and memory on the chart
@@ -121,14 +128,14 @@ def submodel_levels(study, run: Run) -> tuple[int, ...]:
     sun on ISO's 30 deg line: 788 / 822 / 810 MPa on the 0.2 / 0.15 / 0.1 mm sectors
     (oscillatory, U the whole 4.1 % spread), 822 / 810 / 807 MPa on the 0.15 / 0.1 /
     0.08 mm ones (monotone, observed order 1.8, GCI 3.4 %). ``run``: (level, degree, flank
-    level), :data:`Run`.
+    level, fillet level), :data:`Run`.
 
     The whole sector, not its fillet alone: 1-GB at roll 0, sun fillet on a 0.2 mm
     submodel, its other sizes those of level 1 / level 2: 844 / 857 MPa on the level-1
     driver, 838 / 850 MPa on the level-2 driver; a fillet-only ladder would leave that
     part of the submodel's error in the driver's."""
-    level, degree, flank = run
-    if degree != LADDER_DEGREE or flank is not None or study.numerics.root_stress != "submodel":
+    level, degree = run[:2]
+    if degree != LADDER_DEGREE or _variant(run) or study.numerics.root_stress != "submodel":
         return ()
     own = study.model.level
     if level != own:
@@ -144,31 +151,31 @@ def submodel_levels(study, run: Run) -> tuple[int, ...]:
 
 
 def _parse_extra(text: str, option: str = "--extra") -> Run:
-    """``L:D`` (level L, degree D) or ``L:D:F`` (with the active flanks and contact grid of
-    level F, :func:`meshing.sizing.with_flanks`), checked."""
+    """``L:D`` (level L, degree D), ``L:D:F`` (with the active flanks and contact grid of
+    level F) or ``L:D:F:R`` (and the refined fillets of level R; :func:`meshing.sizing.
+    with_sizes`), checked."""
     try:
         parts = [int(v) for v in text.split(":")]
-        if len(parts) not in (2, 3):
+        if not 2 <= len(parts) <= 4:
             raise ValueError(text)
     except ValueError as exc:
         raise InputError(
-            f"{option} {text!r}: must be LEVEL:DEGREE, e.g. 0:2, or LEVEL:DEGREE:FLANK_LEVEL, "
-            "e.g. 1:1:2 (level 1 with level 2's flanks and contact grid)"
+            f"{option} {text!r}: must be LEVEL:DEGREE, e.g. 0:2, LEVEL:DEGREE:FLANK_LEVEL, "
+            "e.g. 1:1:2 (level 1 with level 2's flanks and contact grid), or "
+            "LEVEL:DEGREE:FLANK_LEVEL:FILLET_LEVEL, e.g. 1:1:2:2 (and level 2's refined fillets)"
         ) from exc
-    level, degree, flank = (*parts, None) if len(parts) == 2 else parts
+    level, degree, flank, fillet = (*parts, None, None)[:4]
+    # a size of the run's own level is no variant: 1:1:1 is L1P1, 1:1:2:1 is L1P1F2
     if degree not in (1, 2):
         raise InputError(f"{option} {text!r}: the degree must be 1 or 2")
-    for name, lv in (("level", level), ("flank level", flank)):
+    for name, lv in (("level", level), ("flank level", flank), ("fillet level", fillet)):
         if lv is None:
             continue
         try:
             sizing.check_level(lv)
         except ValueError as exc:
             raise InputError(f"{option} {text!r}: the {name}: {exc}") from exc
-    if flank == level:
-        raise InputError(f"{option} {text!r}: the flank level must differ from the level "
-                         f"(LEVEL:DEGREE is that run)")  # fmt: skip
-    return level, degree, flank
+    return (level, degree, *(None if k == level else k for k in (flank, fillet)))
 
 
 def _check(args) -> list[Run]:
@@ -187,7 +194,7 @@ def _check(args) -> list[Run]:
         )
     if not 1 <= args.positions <= MAX_POSITIONS:
         raise InputError(f"--positions {args.positions}: must be 1 to {MAX_POSITIONS}")
-    runs = [(lv, LADDER_DEGREE, None) for lv in sorted(set(args.levels))]
+    runs = [(lv, LADDER_DEGREE, None, None) for lv in sorted(set(args.levels))]
     for e in args.extra:
         run = _parse_extra(e)
         if run not in runs:
@@ -195,7 +202,7 @@ def _check(args) -> list[Run]:
     args.ooc_runs = set()
     for item in args.out_of_core:
         run = (
-            (int(item), LADDER_DEGREE, None)
+            (int(item), LADDER_DEGREE, None, None)
             if item.isdigit()
             else _parse_extra(item, "--out-of-core")
         )
@@ -223,7 +230,8 @@ def _reused(args, study, run: Run, folder: Path) -> dict | None:
         return None
     ignored = ("code_hash",) if args.reduce_only else ()
     # runs stored before the options
-    stored = {"out_of_core": False, "flank_level": None, **old["reuse_key"]}
+    stored = {"out_of_core": False, "flank_level": None, "fillet_level": None,
+              **old["reuse_key"]}  # fmt: skip
     stored = {k: v for k, v in stored.items() if k not in ignored}
     if stored == {k: v for k, v in key.items() if k not in ignored}:
         old["reused"] = True
@@ -237,7 +245,7 @@ def _one_run(args, study, run: Run, folder: Path) -> dict:
     old = _reused(args, study, run, folder)
     if old is not None:
         return old
-    level, degree, flank = run
+    level, degree = run[:2]
     label = run_label(*run)
     if args.reduce_only:
         raise InputError(
@@ -248,15 +256,14 @@ def _one_run(args, study, run: Run, folder: Path) -> dict:
     subs = submodel_levels(study, run) if args.split_root_stress else ()
     if subs:
         child += ["--submodels", *(str(k) for k in subs)]
-    if flank is not None:
-        child += ["--flank-level", str(flank)]
+    for key, v in _variant(run).items():
+        child += [f"--{key.replace('_', '-')}", str(v)]
     ooc = run in args.ooc_runs
     if ooc:
         child += ["--out-of-core-run"]
     log = folder / "runs" / f"{label}.log"  # the child's progress, a line per submodel
     row = run_child("studies.convergence", child, level, degree, args.timeout, log)
-    if flank is not None:  # a failed child's row lacks it
-        row["flank_level"] = flank
+    row.update(_variant(run))  # a failed child's row lacks them
     row["label"], row["reused"] = label, False
     row["reuse_key"] = _reuse_key(study, run, args.positions, args.split_root_stress, ooc)
     write_json(folder / "runs" / f"{label}.json", row)
@@ -396,7 +403,7 @@ def reproduce(args) -> dict:
         raise InputError(f"--reproduce {args.reproduce}: the record has no finished run "
                          f"{label} (it has {have})")  # fmt: skip
     _same_inputs(case, old, "--reproduce")
-    run = (args.reproduce, LADDER_DEGREE, None)
+    run = (args.reproduce, LADDER_DEGREE, None, None)
     row = _solve_as_recorded(args, case, rec, run, bool(old["reuse_key"].get("out_of_core")))
     now = utc_stamp()
     entry = {"run": label, "code_hash": code_hash(), "git_revision": git_revision(), "date": now}
@@ -429,10 +436,9 @@ def add_to_record(args) -> Path:
     path, rec = _record_of(case, args.records, option)
     run = _parse_extra(args.add_to_record, option)
     label = run_label(*run)
-    _, degree, flank = run
-    if degree == LADDER_DEGREE and flank is None:
+    if run[1] == LADDER_DEGREE and not _variant(run):
         raise InputError(f"{option} {args.add_to_record}: {label} is a ladder run (give "
-                         "another degree or a flank level)")  # fmt: skip
+                         "another degree, or a flank or fillet level)")  # fmt: skip
     finished = [r for r in rec.get("runs", []) if "error" not in r]
     if not finished:
         raise InputError(f"{option}: the record {path} has no finished run")
@@ -479,12 +485,11 @@ def study(args) -> Path | None:
     (folder / "runs").mkdir(parents=True, exist_ok=True)
     rows, skipped = [], []
     for run in runs:
-        level, degree, flank = run
+        level, degree = run[:2]
         label = run_label(*run)
-        extra = degree != LADDER_DEGREE or flank is not None
+        extra = degree != LADDER_DEGREE or bool(_variant(run))
         free = mem_available_gb()
-        which = {"label": label, "level": level, "degree": degree,
-                 **({} if flank is None else {"flank_level": flank})}  # fmt: skip
+        which = {"label": label, "level": level, "degree": degree, **_variant(run)}
         if extra and args.reduce_only and _reused(args, case, run, folder) is None:
             why = "no stored run of these inputs to reduce (--reduce-only)"
             skipped.append({**which, "why": why})
@@ -560,8 +565,8 @@ def main(argv=None) -> int:
         nargs="*",
         default=["0:2"],
         metavar="L:D",
-        help="runs off the ladder, e.g. 0:2 (level 0, P2) or 1:1:2 (level 1 with level 2's "
-        "flanks and contact grid); none: --extra",
+        help="runs off the ladder, e.g. 0:2 (level 0, P2), 1:1:2 (level 1 with level 2's "
+        "flanks and contact grid) or 1:1:2:2 (and level 2's refined fillets); none: --extra",
     )
     ap.add_argument("--positions", type=int, default=1, help="mesh positions per run")
     ap.add_argument("--out", type=Path, default=Path("results/convergence"))
@@ -618,7 +623,7 @@ def main(argv=None) -> int:
     )
     ap.add_argument(
         "--add-to-record",
-        metavar="L:D[:F]",
+        metavar="L:D[:F[:R]]",
         help="solve this off-ladder run by today's code as the record's ladder was solved "
         "and add it to the record (e.g. 1:1:2: level 1 with level 2's flanks and contact grid; "
         "with --out-of-core naming it too: its factors on disk)",
@@ -629,10 +634,10 @@ def main(argv=None) -> int:
     ap.add_argument("--one", nargs=4, metavar=("CASE", "L", "D", "N"), help=argparse.SUPPRESS)
     ap.add_argument("--submodels", type=int, nargs="*", default=[], help=argparse.SUPPRESS)
     ap.add_argument("--flank-level", type=int, default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--fillet-level", type=int, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one:
         case, level, degree, n = args.one
-        flank = args.flank_level
         return guarded(
             lambda: print_row(
                 solve_run(
@@ -642,7 +647,8 @@ def main(argv=None) -> int:
                     int(n),
                     numerics={"out_of_core": True} if args.out_of_core_run else None,
                     submodel_levels=tuple(args.submodels),
-                    flank_level=flank,
+                    flank_level=args.flank_level,
+                    fillet_level=args.fillet_level,
                 )
             ),
             traceback=True,

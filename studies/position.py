@@ -112,6 +112,7 @@ def solve_position(
     own_sectors: bool = True,
     sector_log: Callable[[str], None] | None = None,
     flank_level: int | None = None,
+    fillet_level: int | None = None,
 ) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
     (``model.level``, ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
@@ -130,9 +131,9 @@ def solve_position(
     False skips the read on the level's own sectors (``bending_stress`` None, for a
     diagnostic that reads ``submodel_levels`` only); ``sector_log``: called with a line per
     root-stress sector solved (a ladder run's log; every rank); ``flank_level``: the active
-    teeth's flank elements (and so the default contact grid) at that level's size, every
-    other size and the root-stress sectors those of ``level``
-    (:func:`meshing.sizing.with_flanks`)."""
+    teeth's flank elements (and so the default contact grid) at that level's size,
+    ``fillet_level``: the named fine fillets at that level's, every other size and the
+    root-stress sectors those of ``level`` (:func:`meshing.sizing.with_sizes`)."""
     store = BodyStore() if store is None else store
     store.begin_position()
     num = study.numerics
@@ -140,7 +141,9 @@ def solve_position(
     degree = num.degree if degree is None else degree
     if spacing is None:
         spacing = num.grid_spacing
-    sizes = level if flank_level is None else sizing.with_flanks(level, flank_level)
+    other = {"flank_level": flank_level, "fillet_level": fillet_level}
+    other = {k: v for k, v in other.items() if v is not None}
+    sizes = sizing.with_sizes(level, **other) if other else level
     if spacing is None:  # default: the flank element size of the level
         spacing = sizing.check_level(sizes).fine
     penalty = num.penalty_factor if penalty_factor is None else penalty_factor
@@ -206,7 +209,7 @@ def solve_position(
         ranks=comm.size,
         level=level,
         degree=degree,
-        **({} if flank_level is None else {"flank_level": flank_level}),
+        **other,
         grid_spacing_mm=spacing,
         penalty_factor=penalty,
         timings={

@@ -91,6 +91,7 @@ def solve_run(
     numerics: dict | None = None,
     submodel_levels: tuple[int, ...] = (),
     flank_level: int | None = None,
+    fillet_level: int | None = None,
 ) -> dict:
     """Solve ``positions`` equally spaced mesh positions of ``case`` (serial, bodies reused
     across them) at ``level``/``degree``; the run's row (see the module docstring).
@@ -98,8 +99,9 @@ def solve_run(
     a case file); ``submodel_levels``: the root stress read also on the submodels of these
     levels at the same global solutions, in the row's ``fillet_scalars`` keyed by their fillet
     (:func:`fillet_scalars`; timed apart, not in the run's time); ``flank_level``: the
-    active flanks and contact grid at that level's size (:func:`meshing.sizing.with_flanks`;
-    the row keeps it, an off-ladder run)."""
+    active flanks and contact grid at that level's size, ``fillet_level``: the named fine
+    fillets at that level's (:func:`meshing.sizing.with_sizes`; the row keeps them, an
+    off-ladder run)."""
     study = load_study_case(case)
     if numerics:
         try:
@@ -130,6 +132,7 @@ def solve_run(
             progress=progress,
             sector_log=progress,
             flank_level=flank_level,
+            fillet_level=fillet_level,
         )
         for roll in roll_angles(study, positions)
     ]
@@ -138,9 +141,9 @@ def solve_run(
     # over several positions: a later position's peak follows an earlier ladder)
     before = [p["timings"].get("peak_rss_mb_before_ladder") for p in solved]
     peak = max(before) if all(v is not None for v in before) else peak_rss_mb()
-    lv = sizing.check_level(level)
-    if flank_level is not None:
-        lv = sizing.with_flanks(level, flank_level)
+    other = {"flank_level": flank_level, "fillet_level": fillet_level}
+    other = {k: v for k, v in other.items() if v is not None}
+    lv = sizing.with_sizes(level, **other)
     # the fillets the root stress is read on: the submodel's, or the global model's
     sub = study.numerics.root_stress == "submodel"
     read_fillet = submodel_level(level).fillet if sub else lv.fillet
@@ -148,7 +151,7 @@ def solve_run(
     return {
         "level": level,
         "degree": degree,
-        **({} if flank_level is None else {"flank_level": flank_level}),
+        **other,
         "positions": positions,
         "rolls": [p["roll"] for p in solved],
         "dofs": int(solved[0]["dofs"]),

@@ -9,7 +9,7 @@ from dataclasses import replace
 import pytest
 
 from cases.study_case import load_study_case
-from meshing.sizing import LEVELS, MeshingError, with_fillet, with_flanks
+from meshing.sizing import LEVELS, MeshingError, with_fillet, with_sizes
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import (
     compare_runs,
@@ -85,10 +85,13 @@ def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
     against the ladder's extrapolation like a P2 run, and can be the recommended run."""
     from postprocess.run_scalars import row_label, run_label
 
-    assert with_flanks(1, 2) == replace(LEVELS[1], fine=LEVELS[2].fine)
+    assert with_sizes(1, 2) == replace(LEVELS[1], fine=LEVELS[2].fine)
+    assert with_sizes(1, 2, 2) == replace(LEVELS[1], fine=LEVELS[2].fine, fillet=LEVELS[2].fillet)
+    assert with_sizes(1) == LEVELS[1]
     with pytest.raises(MeshingError, match="level = 9"):
-        with_flanks(1, 9)
+        with_sizes(1, 9)
     assert run_label(1, 1) == "L1P1" and run_label(1, 1, 2) == "L1P1F2"
+    assert run_label(1, 1, 2, 2) == "L1P1F2R2" and run_label(1, 1, None, 2) == "L1P1R2"
     flank = _flank_row()
     assert row_label(flank) == "L1P1F2" and row_label(ROWS[1]) == "L1P1"
     rows = [*ROWS[:3], flank]
@@ -119,6 +122,12 @@ def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
     assert (
         "Off the ladder: L1P1F2 (level 1 with level 2's flanks and contact grid, degree 1)" in text
     )
+    both = {**flank, "label": "L1P1F2R2", "fillet_level": 2}
+    assert ladder([*ROWS[:3], both])[1] == [both]
+    text = write_report({**conv, "runs": [*rows, both]}, tmp_path).read_text()
+    assert "| L1P1F2R2 | 1 (flanks and grid of 2; refined fillets of 2) | 1 |" in text
+    assert ("L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined "
+            "fillets, degree 1)") in text  # fmt: skip
 
 
 def test_table_extrapolates_each_scalar_with_its_own_h():
@@ -556,7 +565,7 @@ def _stored_runs(folder, case, code: str, ooc: tuple[int, ...] = ()) -> None:
 
     (folder / "runs").mkdir(parents=True)
     for row in ROWS[:3]:
-        key = {**_reuse_key(case, (row["level"], row["degree"], None), 1), "code_hash": code}
+        key = {**_reuse_key(case, (row["level"], row["degree"], None, None), 1), "code_hash": code}
         if row["level"] in ooc:
             key["out_of_core"] = True
         else:
@@ -801,9 +810,13 @@ def test_the_ladder_runs_read_the_two_submodel_ladders():
     study = load_study_case("1-GB")  # level 1: its sector at level 2's sizes, 0.15 mm
     assert study.model.level == 1
     assert submodel_level(1) == with_fillet(2, 0.15)
-    assert submodel_levels(study, (1, 1, None)) == (2, 3)  # the submodel ladder, driver fixed
+    assert submodel_levels(study, (1, 1, None, None)) == (2, 3)  # the submodel ladder, driver fixed
     driver = (1,)  # the driver ladder at the case level's sector
-    assert submodel_levels(study, (0, 1, None)) == submodel_levels(study, (2, 1, None)) == driver
+    assert (
+        submodel_levels(study, (0, 1, None, None))
+        == submodel_levels(study, (2, 1, None, None))
+        == driver
+    )
     # the whole sector refines along the submodel ladder, its fillet the finest part
     subs = [submodel_level(k) for k in (1, 2, 3)]
     assert [s.fillet for s in subs] == [0.15, 0.1, 0.08]
@@ -811,16 +824,16 @@ def test_the_ladder_runs_read_the_two_submodel_ladders():
     # a level-0 case reads the two finer sectors too; a level-2 case has one finer sector
     # (levels 3 and 4 share theirs) and reads one coarser
     at = {k: replace(study, model=replace(study.model, level=k)) for k in range(len(LEVELS))}
-    assert submodel_levels(at[0], (0, 1, None)) == (1, 2)
-    assert submodel_levels(at[2], (2, 1, None)) == (1, 3)
+    assert submodel_levels(at[0], (0, 1, None, None)) == (1, 2)
+    assert submodel_levels(at[2], (2, 1, None, None)) == (1, 3)
     # the finest level reads its own sizes; a case there reads the two coarser sectors
     top = len(LEVELS) - 1
     assert submodel_level(top) == submodel_level(top - 1) == with_fillet(top, 0.08)
-    assert submodel_levels(at[top], (top, 1, None)) == (top - 3, top - 2)
-    assert submodel_levels(study, (0, 2, None)) == ()  # off the ladder
-    assert submodel_levels(study, (1, 1, 2)) == ()  # level 2's flanks: off the ladder
+    assert submodel_levels(at[top], (top, 1, None, None)) == (top - 3, top - 2)
+    assert submodel_levels(study, (0, 2, None, None)) == ()  # off the ladder
+    assert submodel_levels(study, (1, 1, 2, None)) == ()  # level 2's flanks: off the ladder
     glob = global_root_stress(study)
-    assert submodel_levels(glob, (1, 1, None)) == ()
+    assert submodel_levels(glob, (1, 1, None, None)) == ()
 
 
 # ---------------------------------------------------------------- the reductions' findings
@@ -1022,7 +1035,7 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     asked = []
 
     def child(args, study, run, where):
-        level, degree, _ = run
+        level, degree = run[:2]
         asked.append((level, degree, args.positions, args.split_root_stress, args.ooc_runs))
         row = dict(runs[level])
         if len(asked) > 1:  # the second time one scalar moves
@@ -1091,7 +1104,7 @@ def test_add_to_record_solves_an_off_ladder_run_and_the_record_stands_for_it(
     monkeypatch.setattr(conv_mod, "_one_run", child)
     argv = ["1-GB", "--records", str(records), "--out", str(out), "--add-to-record"]
     assert main([*argv, "1:1:2", "--out-of-core", "1:1:2"]) == 0
-    assert asked == [((1, 1, 2), 1, True, {(1, 1, 2)})]
+    assert asked == [((1, 1, 2, None), 1, True, {(1, 1, 2, None)})]
     rec = read_json(path)
     assert rec["labels"] == ["L0P1", "L1P1", "L2P1", "L1P1F2"]
     assert rec["ladder"]["runs"] == ["L0P1", "L1P1", "L2P1", "L1P1F2"]
@@ -1115,8 +1128,10 @@ def test_add_to_record_solves_an_off_ladder_run_and_the_record_stands_for_it(
     assert main([*argv, "0:2"]) == 1
     assert "L0P2 failed" in capsys.readouterr().err and path.read_text() == before
     # refused: a ladder run, the same level as flank level, a level out of range
-    for bad, why in (("1:1", "is a ladder run"), ("1:1:1", "must differ"),
-                     ("1:1:9", "flank level"), ("1-1", "LEVEL:DEGREE")):  # fmt: skip
+    for bad, why in (("1:1", "is a ladder run"), ("1:1:1", "is a ladder run"),
+                     ("1:1:1:1", "is a ladder run"), ("1:1:9", "flank level"),
+                     ("1:1:2:7", "fillet level"), ("1-1", "LEVEL:DEGREE"),
+                     ("1:1:2:2:2", "LEVEL:DEGREE")):  # fmt: skip
         assert main([*argv, bad]) == 2
         assert why in capsys.readouterr().err
     assert len(asked) == 3
