@@ -234,9 +234,11 @@ convergence: $(STAMP) ## discretisation error of every scalar: make convergence 
 # `make MAIN_CONVERGENCE=` leaves both out (summaries then take the records' ±, or say
 # `uncertainty: null` and why). P2 only in `make convergence`.
 RECORD ?=
-# off the ladder: level 1 with level 2's flanks and contact grid, the candidate default
-# (2026-11-30: meets every target for 2B-GA at 1.1x level 1's time; misses Mx_pin for 1-GB)
-CONV_MAIN_EXTRA = 1:1:2
+# off the ladder: level 1 with level 2's flanks and contact grid (1:1:2), and with level 2's
+# refined fillets too (1:1:2:2), the candidates for the default (2026-11-30: 1:1:2:2 meets
+# every target for both cases at 1.35x level 1's time, level 2 at 3.2-3.3x; 1:1:2 misses
+# 1-GB's Mx_pin)
+CONV_MAIN_EXTRA = 1:1:2 1:1:2:2
 CONV_MAIN_FLAGS = $(if $(filter 1 yes true,$(RECORD)),--record,--unless-recorded)
 # per run: 1-GB's level 1 reads eight sectors (two finer ones per loaded fillet), over an hour
 CONV_MAIN_TIMEOUT ?= 10800

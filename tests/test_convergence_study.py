@@ -772,6 +772,40 @@ def test_root_stress_split_recovers_the_limit_of_separable_errors():
     assert e["uncertainty"]["L0P1"] == pytest.approx(want, rel=1e-12)
 
 
+def test_a_run_with_other_levels_sizes_is_judged_as_a_point_of_the_driver_ladder():
+    """L1P1F2 reads the case level's sector like every driver-ladder reading: its U is its
+    driver error (Fs |v - D_ext|) plus the sector's U there, as a ladder run's; a value that
+    lands on the extrapolated X by chance (a driver error cancelling the sector's) does not
+    pass with a U of zero. A run on another sector (P2 at level 0) keeps Fs |v - X|."""
+    rows = _split_rows()
+    h2, f_d = LEVELS[2].fine, 0.15
+    on_x = {**rows[1], "label": "L1P1F2", "flank_level": 2, "fillet_scalars": {},
+            "h_mm": {"fine": h2, "fillet": f_d},
+            "scalars": {"bending_stress.ring": _separable(h2, f_d)}}  # fmt: skip
+    e = scalar_table([*rows, on_x], case_level=1)["bending_stress.ring"]
+    sp = e["split"]
+    v = on_x["scalars"]["bending_stress.ring"]
+    d_ext = sp["driver"]["extrapolated"]
+    assert d_ext == pytest.approx(A_ROOT * (1 - 2 * f_d * f_d), rel=1e-9)
+    u_sub = sp["submodel"]["uncertainty"][0]
+    assert e["uncertainty"]["L1P1F2"] == pytest.approx(1.25 * abs(v - d_ext) / v + u_sub)
+    # the same driver value as level 2's reading on the case's sector: the same driver U
+    i2 = sp["driver"]["at"].index("L2P1")
+    assert sp["driver"]["values"][i2] == pytest.approx(v, rel=1e-12)
+    assert e["uncertainty"]["L1P1F2"] == pytest.approx(sp["driver"]["uncertainty"][i2] + u_sub)
+    # a value on X: judged on v - X alone its U would be 0; here the driver's error and the
+    # sector's U stay in it
+    lucky = {**on_x, "scalars": {"bending_stress.ring": e["extrapolated"]}}
+    e2 = scalar_table([*rows, lucky], case_level=1)["bending_stress.ring"]
+    assert e2["rel_error"]["L1P1F2"] == pytest.approx(0.0, abs=1e-12)
+    assert e2["uncertainty"]["L1P1F2"] > u_sub > 0.0
+    # another sector (a P2 run at level 0 reads level 0's, 0.2 mm): Fs |v - X| / |v|
+    p2 = {**rows[0], "label": "L0P2", "degree": 2, "fillet_scalars": {},
+          "scalars": {"bending_stress.ring": 0.99 * A_ROOT}}  # fmt: skip
+    e3 = scalar_table([*rows, p2], case_level=1)["bending_stress.ring"]
+    assert e3["uncertainty"]["L0P2"] == pytest.approx(1.25 * 0.01 / 0.99)
+
+
 def test_root_stress_split_of_a_run_coarser_than_the_submodel_ladder():
     """A case at level 2: the submodel ladder is 0.15 / 0.1 / 0.08 mm, and level 0 reads
     0.2 mm: its U adds the step to the case's sector on its own driver."""
