@@ -285,8 +285,11 @@ def _runs_code(conv: dict) -> list[str]:
     other = [h for h in conv.get("runs_code_hash", []) if h != conv.get("code_hash")]
     if not other:
         return []
-    if conv.get("added"):  # the ladder's code beside the added runs' (_off_ladder)
-        return [f"The ladder's runs were solved by code {', '.join(other)}; the reduction, "
+    added = conv.get("added") or {}
+    if added:  # the ladder's code; the added runs' is in _off_ladder
+        mine = sorted({r["reuse_key"]["code_hash"] for r in conv["runs"]
+                       if "reuse_key" in r and r.get("label") not in added})  # fmt: skip
+        return [f"The ladder's runs were solved by code {', '.join(mine)}; the reduction, "
                 f"targets and report are code {conv['code_hash']}'s.", ""]  # fmt: skip
     return [
         f"Reduced again (`--reduce-only`) by code {conv['code_hash']} from runs solved by "
@@ -307,13 +310,19 @@ def _off_ladder(conv: dict) -> list[str]:
         "Off the ladder: "
         + ", ".join(f"{r['label']} ({_in_words(r)})" for r in off)
         + ". Each is judged against the ladder's extrapolation X: error = (value - X) / |X|, "
-        "U = 1.25 |value - X| relative to the value (at least the sector scatter for a root "
-        "stress read on a sector); without an X, the spread of the ladder and its value.",
+        "U = 1.25 |value - X| relative to the value; without an X, the spread of the ladder "
+        "and its value. A root stress read on the case level's sector is a point of its "
+        "driver ladder: U = 1.25 |value - D_ext| / |value| (the spread of the driver ladder "
+        "and its value without a D_ext) plus the sector's U there, as a ladder run's; one read "
+        "on another sector: U as above, at least the sector scatter.",
     ]
-    for label, a in sorted((conv.get("added") or {}).items()):
+    added = sorted((conv.get("added") or {}).items())
+    for label, a in added:
+        commit = str(a.get("git_revision"))[:10]
         lines[0] += (f" {label} was added to the record on {a.get('date')} by code "
-                     f"{a.get('code_hash')} (commit {str(a.get('git_revision'))[:10]}); "
-                     "the ladder's runs keep the code that solved them.")  # fmt: skip
+                     f"{a.get('code_hash')} (commit {commit}).")  # fmt: skip
+    if added:
+        lines[0] += " The ladder's runs keep the code that solved them."
     return [*lines, ""]
 
 
