@@ -237,7 +237,7 @@ RECORD ?=
 # off the ladder: level 1 with level 2's flanks and contact grid (1:1:2), and with level 2's
 # refined fillets too (1:1:2:2), the candidates for the default (2026-11-30: 1:1:2:2 meets
 # every target for both cases at 1.35x level 1's time, level 2 at 3.2-3.3x; 1:1:2 misses
-# 1-GB's Mx_pin)
+# 1-GB's Mx_pin); 1:1:2:2 with its factors on disk, as level 2 (2.4-3.2 GB, not 10-16 GB)
 CONV_MAIN_EXTRA = 1:1:2 1:1:2:2
 CONV_MAIN_FLAGS = $(if $(filter 1 yes true,$(RECORD)),--record,--unless-recorded)
 # per run: 1-GB's level 1 reads eight sectors (two finer ones per loaded fillet), over an hour
@@ -245,9 +245,9 @@ CONV_MAIN_TIMEOUT ?= 10800
 .PHONY: convergence-main
 convergence-main: $(STAMP) ## the ladders behind the ±, unless recorded (RECORD=1: solve and record them)
 	$(PY) -m studies.convergence 1-GB --levels 0 1 2 --extra $(CONV_MAIN_EXTRA) --split-root-stress \
-	  --out-of-core 2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
+	  --out-of-core 2 1:1:2:2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
 	$(PY) -m studies.convergence 2B-GA --levels 0 1 2 --extra $(CONV_MAIN_EXTRA) --split-root-stress \
-	  --out-of-core 2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
+	  --out-of-core 2 1:1:2:2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
 
 # After a code change, the cheap evidence that the records still stand: each record's level-0
 # run solved again by today's code and compared scalar by scalar (kept in the record; the
