@@ -52,7 +52,7 @@ def _memory(conv: dict, label: str, mb: float) -> str:
 
 
 #: what a run's sizes of another level are, in words (:func:`meshing.sizing.with_sizes`)
-VARIANT_WORDS = {"flank_level": "flanks and grid", "fillet_level": "refined fillets"}
+VARIANT_WORDS = {"flank_level": "flanks and contact grid", "fillet_level": "refined fillets"}
 
 
 def _level(r: dict) -> str:
@@ -63,7 +63,6 @@ def _level(r: dict) -> str:
 
 def _in_words(r: dict) -> str:
     other = " and ".join(f"level {v}'s {VARIANT_WORDS[k]}" for k, v in variant(r).items())
-    other = other.replace("flanks and grid", "flanks and contact grid")
     return f"level {r['level']}" + (f" with {other}" if other else "") + f", degree {r['degree']}"
 
 

@@ -412,7 +412,8 @@ def _off_ladder_split(entry: dict, r: dict, key: str, f: list[float], zs: float)
 
 def _off_ladder_runs(entry: dict, res, others: list[dict], key: str, f: list[float],
                      zs: float) -> None:  # fmt: skip
-    """Each run off the ladder (another degree) against the ladder's result, into ``entry``:
+    """Each run off the ladder (another degree, other levels' sizes) against the ladder's
+    result, into ``entry``:
     its error against the extrapolation, else the spread of the ladder and its value
     (:func:`postprocess.convergence.off_ladder`; a two-level ladder too, whose study lists the
     run and so must give it a ±)."""
@@ -459,7 +460,7 @@ def recommend(rows: list[dict], table: dict[str, dict]) -> dict:
     verdicts = []
     ok = [r for r in rows if "error" not in r]
     have = {k for r in ok for k in r["scalars"]}
-    recovered = holds_recovered(ok)
+    recovered = holds_recovered(ladder(ok)[0])  # the ladder's, as scalar_table's targets
     for r in ok:
         label = row_label(r)
         worst: dict[str, dict] = {}

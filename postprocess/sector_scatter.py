@@ -21,6 +21,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 
+from postprocess.run_scalars import variant
+
 #: a variant's value groups (:func:`studies.sector_sizes.solve_variant`) and the convergence
 #: study's scalar keys they are read as (:data:`postprocess.convergence_study.SPLIT_PREFIXES`);
 #: the recovered values (:mod:`solvers.surface_recovery`) are in variants since 2026-11-30
@@ -73,10 +75,18 @@ def scatter_floors(entries: Iterable[Mapping], level: int) -> dict[str, float]:
     return floors
 
 
-def case_level_inputs(conv: Mapping) -> set:
-    """The inputs hashes of a study's runs at its case level (its sector ladder's driver)."""
+def level_inputs(conv: Mapping, level: int) -> set:
+    """The inputs hashes of a study's ladder runs at ``level`` (its ladder degree, the
+    level's own sizes: not a run off the ladder at that level, such as L1P1F2 or L1P2)."""
     return {(r.get("reuse_key") or {}).get("inputs_hash") for r in conv.get("runs") or []
-            if r.get("level") == conv.get("case_level")}  # fmt: skip
+            if r.get("level") == level and not variant(r)
+            and r.get("degree") == conv.get("ladder_degree", 1)}  # fmt: skip
+
+
+def case_level_inputs(conv: Mapping) -> set:
+    """The inputs hashes of a study's ladder run at its case level (its sector ladder's
+    driver)."""
+    return level_inputs(conv, conv.get("case_level"))
 
 
 def carried_scatter(old: Mapping, new: Mapping) -> list[dict]:

@@ -33,7 +33,7 @@ import sys
 from pathlib import Path
 
 from cases.study_case import inputs_hash, load_study_case
-from postprocess.sector_scatter import other_size_spreads
+from postprocess.sector_scatter import level_inputs, other_size_spreads
 from studies.cli import InputError, guarded
 from studies.convergence import reduce_records
 from studies.files import read_json, write_json
@@ -72,9 +72,7 @@ def record_scatter(case: str, level: int, out: Path, records: Path = RECORDS,
     if sizes.get("key", {}).get("inputs") != inputs_hash(study):
         raise InputError(f"{src}: solved from other inputs than today's case file "
                          f"{study.name}; run make sector-sizes again")  # fmt: skip
-    solved = {(r.get("reuse_key") or {}).get("inputs_hash") for r in conv["runs"]
-              if r.get("level") == level}  # fmt: skip
-    if solved != {inputs_hash(study)}:
+    if level_inputs(conv, level) != {inputs_hash(study)}:
         raise InputError(f"--case {study.name}: the record's level-{level} run was solved from "
                          "other inputs than today's case file; record it again first")  # fmt: skip
     if level != conv.get("case_level"):

@@ -118,14 +118,14 @@ def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
             "labels": [r["label"] for r in rows], "scalars": table,
             "recommendation": rec}  # fmt: skip
     text = write_report(conv, tmp_path).read_text()
-    assert "| L1P1F2 | 1 (flanks and grid of 2) | 1 |" in text
+    assert "| L1P1F2 | 1 (flanks and contact grid of 2) | 1 |" in text
     assert (
         "Off the ladder: L1P1F2 (level 1 with level 2's flanks and contact grid, degree 1)" in text
     )
     both = {**flank, "label": "L1P1F2R2", "fillet_level": 2}
     assert ladder([*ROWS[:3], both])[1] == [both]
     text = write_report({**conv, "runs": [*rows, both]}, tmp_path).read_text()
-    assert "| L1P1F2R2 | 1 (flanks and grid of 2; refined fillets of 2) | 1 |" in text
+    assert "| L1P1F2R2 | 1 (flanks and contact grid of 2; refined fillets of 2) | 1 |" in text
     assert ("L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined "
             "fillets, degree 1)") in text  # fmt: skip
 
@@ -199,6 +199,13 @@ def test_the_recovered_root_stress_is_the_target_where_a_study_holds_it():
     assert rec_old["recommended"] is None
     assert all("bending_stress_tangent.ring" in v["failing"] for v in rec_old["runs"])
     assert rec_old["root_stress_targets"] == "nodal"
+    # an off-ladder run of older code (no recovered reading) does not move the targets:
+    # the ladder's readings set them, in the table and in the verdict alike
+    p2_old = {**old[3], "label": "L0P2"}
+    both = [*rows[:3], p2_old]
+    rec_p2 = recommend(both, scalar_table(both))
+    assert rec_p2["root_stress_targets"] == "recovered"
+    assert scalar_table(both)["bending_stress_tangent_recovered.ring"]["target"] == 0.05
     # runs of older and newer code reduced together (--reduce-only): the recovered ones in
     # one run only are no ladder, so the nodal ones stay the targets (the root stress is
     # not left without one)

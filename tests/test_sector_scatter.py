@@ -13,6 +13,7 @@ from meshing.submodel import submodel_level
 from postprocess.convergence_study import reduce_study, scalar_table
 from postprocess.sector_scatter import (
     carried_scatter,
+    case_level_inputs,
     other_size_spreads,
     scatter_floors,
     spread,
@@ -259,6 +260,26 @@ def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
     rec = read_json(record(study, new, records))
     assert "sector_scatter" not in rec
     assert (records / "1-GB" / "report.md").read_text().startswith("# the study, reduced")
+
+
+def test_the_case_level_inputs_are_the_ladder_runs_not_the_runs_off_it():
+    """The scatter is carried where the case level's ladder run (the sector ladder's driver)
+    was solved from the same inputs; a run off the ladder at that level (L1P1F2, L1P2) is not
+    it, and must not stop the carry (a dropped floor prints a smaller ±)."""
+    rec = read_json(RECORDS / "1-GB" / "convergence.json")
+    new = {k: v for k, v in rec.items() if k not in ("sector_scatter", "recorded")}
+    base = [r for r in rec["runs"] if r["label"] in ("L0P1", "L1P1", "L2P1")]
+    l1 = next(r for r in base if r["label"] == "L1P1")
+    other = {**l1, "reuse_key": {**l1["reuse_key"], "inputs_hash": "other"}}
+    for off in (
+        {**other, "label": "L1P1F2", "flank_level": 2},
+        {**other, "label": "L1P2", "degree": 2},
+    ):
+        with_off = {**new, "runs": [*base, off]}
+        assert case_level_inputs(with_off) == {l1["reuse_key"]["inputs_hash"]}
+        assert carried_scatter(rec, with_off) == rec["sector_scatter"]
+    # the ladder run itself of other inputs: not the same sectors
+    assert carried_scatter(rec, {**new, "runs": [*base[:1], other, *base[2:]]}) == []
 
 
 def test_a_record_replacing_an_unreadable_one_carries_nothing_and_says_so(tmp_path, capsys):
