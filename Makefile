@@ -16,6 +16,12 @@ NP      ?= 1
 # QUIET=1: the study driver prints only warnings and errors (CI logs): `make 1-GA QUIET=1`
 QUIET   ?=
 STUDY_FLAGS := $(if $(filter 1 yes true,$(QUIET)),--quiet)
+# The one-branch case runs keep their bodies' LU factors on disk (--out-of-core, the same
+# answer to round-off): at the case files' sizes (level 1 with level 2's flanks, contact grid
+# and refined fillets) one 2B-GA position holds 15.5 GB in core and 3.2 GB so, at the same
+# speed (the convergence records, 2026-11-30). IN_CORE=1 keeps them in memory.
+IN_CORE ?=
+CASE_FLAGS := $(STUDY_FLAGS) $(if $(filter 1 yes true,$(IN_CORE)),,--out-of-core)
 
 # First Python >= 3.12 that actually runs: python3.12.. on PATH (a pyenv shim that is not
 # activated fails the check), then pyenv's installed versions.
@@ -80,23 +86,25 @@ analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md
 
 # One FE study case: `make 1-GB`; `make 1-GB NP=2` runs it on 2 MPI ranks.
 $(CASE1) $(CASE2): $(STAMP)
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $@ --out $(RESULTS) $(STUDY_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $@ --out $(RESULTS) $(CASE_FLAGS)
 
 # Any case file: `make study CASE=path/to/my_case.toml` (or a name in cases/).
 study: $(STAMP) ## one study for any case file: make study CASE=path/to/case.toml [NP=2]
 	@[ -n "$(CASE)" ] || { echo "error: give the case file: make study CASE=path/to/case.toml" >&2; exit 2; }
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE) --out $(RESULTS) $(STUDY_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE) --out $(RESULTS) $(CASE_FLAGS)
 
 # The cases of a group run in one process: their bodies are factorized once and reused.
 case1: $(STAMP) ## the four case-1 FE cases and their report: results/case1/report.md
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --out $(RESULTS) $(STUDY_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --out $(RESULTS) $(CASE_FLAGS)
 	$(PY) -m studies.case1_report --results $(RESULTS)
 
+# The system scenes and their branch references run at SYSTEM_LEVEL's own sizes (--level):
+# the case files' finer flanks would put every pinion's mesh of the system scene past 23 GB.
 case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/case1-system/report.md
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --scene system \
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --scene system --level $(SYSTEM_LEVEL) \
 	  --out $(RESULTS)/case1-system $(STUDY_FLAGS)
 	$(PY) -m studies.pin_errors 1-GB --errors 0 10 25 50 --out $(RESULTS)/case1-system
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --root-fillets coarse \
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --root-fillets coarse --level $(SYSTEM_LEVEL) \
 	  --out $(RESULTS)/case1-system/branch $(STUDY_FLAGS)
 	$(PY) -m studies.system_report --branch $(RESULTS)/case1-system/branch \
 	  --system $(RESULTS)/case1-system --cases $(CASE1) --pair 1-GB-R 1-GC
@@ -109,19 +117,18 @@ case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/
 # level 1 (1.0M DOFs, coarse root fillets): 52.5 min serial with the branch reference, one
 # process at 21.2 GB resident at its peak (2026-11-27; 8.8 min and 11.2 GB before the root
 # stress was read in both scenes); SYSTEM_LEVEL=0 on a smaller machine.
-SYSTEM_LEVEL ?=
+SYSTEM_LEVEL ?= 1
 case2-system: $(STAMP) ## case 2 in the system scene (six carrier pins): results/case2-system/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --scene system \
-	  $(if $(SYSTEM_LEVEL),--level $(SYSTEM_LEVEL)) --out $(RESULTS)/case2-system $(STUDY_FLAGS)
+	  --level $(SYSTEM_LEVEL) --out $(RESULTS)/case2-system $(STUDY_FLAGS)
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --root-fillets coarse \
-	  $(if $(SYSTEM_LEVEL),--level $(SYSTEM_LEVEL)) --out $(RESULTS)/case2-system/branch \
-	  $(STUDY_FLAGS)
+	  --level $(SYSTEM_LEVEL) --out $(RESULTS)/case2-system/branch $(STUDY_FLAGS)
 	$(PY) -m studies.system_report --branch $(RESULTS)/case2-system/branch \
 	  --system $(RESULTS)/case2-system --cases $(CASE2)
 
 # --single: the single-pinion cases the pattern shift is compared with (same bearing).
 case2: $(STAMP) ## the case-2 FE cases (double pinion) and their report: results/case2/report.md
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(STUDY_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(CASE_FLAGS)
 	$(PY) -m studies.case2_report --results $(RESULTS) --cases $(CASE2) --single $(CASE1)
 
 bench-study: $(STAMP) ## reuse and MPI speed-ups of the study: results/bench/study.json

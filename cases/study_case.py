@@ -17,7 +17,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +35,8 @@ from gears.material import STEEL
 CASE_DIR = Path(__file__).parent
 SCENES = ("one_branch", "all_planets", "system")
 MAX_LEVEL = 3
+#: ``[model]`` fields that take one kind of element size from another level (Model)
+VARIANT_FIELDS = ("flank_level", "fillet_level")
 MAX_POSITIONS = 50
 # The paper leaves the axial bearing stiffness out ("stiff"): 100x the radial rigid bearing.
 DEFAULT_AXIAL_STIFFNESS = 2.33e10
@@ -92,6 +94,19 @@ class Model:
     scene: str  # one of SCENES
     level: int  # mesh resolution ladder level, 0..MAX_LEVEL
     positions: int  # mesh positions over one base pitch, 1..MAX_POSITIONS
+    # The active teeth's flank elements (and so the default contact grid) at this level's
+    # size, and the refined root fillets at this level's, every other size and the
+    # root-stress sectors those of ``level`` (meshing.sizing.with_sizes; run label
+    # L<level>P<degree>F<flank_level>R<fillet_level>). None, or ``level`` itself: the level's
+    # own. The case's sizes, used where a run takes the case's level (no --level given).
+    flank_level: int | None = None
+    fillet_level: int | None = None
+
+    @property
+    def variant(self) -> dict[str, int]:
+        """The sizes the case's runs take from other levels ({} for the level's own)."""
+        pairs = (("flank_level", self.flank_level), ("fillet_level", self.fillet_level))
+        return {k: v for k, v in pairs if v is not None}
 
 
 @dataclass(frozen=True)
@@ -342,10 +357,14 @@ def parse_study_case(
     scene = mod.get("scene")
     if scene not in SCENES:
         raise CaseError(f"{source}: model.scene = {scene!r}: must be one of {', '.join(SCENES)}")
+    level = _integer(mod, "level", "model", source, 0, MAX_LEVEL)
+    # another level's sizes; the level's own is no variant (L1P1 with flank_level 1 is L1P1)
+    other = {k: _integer(mod, k, "model", source, 0, MAX_LEVEL) for k in VARIANT_FIELDS if k in mod}
     model = Model(
         scene,
-        _integer(mod, "level", "model", source, 0, MAX_LEVEL),
+        level,
         _integer(mod, "positions", "model", source, 1, MAX_POSITIONS),
+        **{k: None if v == level else v for k, v in other.items()},
     )
     n = check_keys(data.get("numerics", {}), _names(Numerics), source, "numerics")
     try:
@@ -408,12 +427,14 @@ def study_inputs(study: StudyCase) -> dict[str, Any]:
     ``numerics.out_of_core``, where the factors are kept (the same answer to round-off)."""
     gs = study.gearset
     numerics = {k: v for k, v in asdict(study.numerics).items() if k != "out_of_core"}
+    # a level's own sizes leave the variant fields out: the hash of a case without them stays
+    model = {k: v for k, v in asdict(study.model).items() if v is not None}
     return {
         "study_case": {
             "name": study.name,
             "bearing": asdict(study.bearing),
             "material": asdict(study.material),
-            "model": asdict(study.model),
+            "model": model,
             "numerics": numerics,
             "system": {
                 "sun_radial_stiffness": study.system.sun_radial_stiffness,
@@ -435,6 +456,14 @@ def study_inputs(study: StudyCase) -> dict[str, Any]:
             "modifications": {n: asdict(m) for n, m in sorted(gs.modifications.items())},
         },
     }
+
+
+def without_variant(study: StudyCase) -> StudyCase:
+    """``study`` with its level's own sizes (``model.flank_level`` / ``fillet_level`` None):
+    the inputs of a run that sets its sizes itself (a convergence run, a size diagnostic), so
+    its stored runs stand when a case file gains or changes its sizes."""
+    model = replace(study.model, flank_level=None, fillet_level=None)
+    return replace(study, model=model)
 
 
 def inputs_hash(study: StudyCase) -> str:

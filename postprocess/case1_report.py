@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt
 from postprocess.convergence import convergence_links, uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import OFFSET_NOTE, plus_minus
+from postprocess.run_scalars import level_text
 from postprocess.stress_tables import contact_section, root_section
 
 CASES = ("1-GA", "1-GB", "1-GC", "1-GB-R")
@@ -71,7 +72,7 @@ def write_report(results: Path) -> Path:
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, s in runs.items():
-        head = (f"| {name} | {s['level']} | {len(s['positions'])} | {s['dofs']} | "
+        head = (f"| {name} | {level_text(s)} | {len(s['positions'])} | {s['dofs']} | "
                 f"{s['ZS']:+.2f}{plus_minus(s, 'ZS', '.2f')} | "
                 f"{s['ZR']:+.2f}{plus_minus(s, 'ZR', '.2f')} ")  # fmt: skip
         for i, q in enumerate(MOMENTS):

@@ -47,6 +47,7 @@ from gears.spec import GearSpec
 from postprocess.convergence import convergence_links, uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import OFFSET_NOTE, plus_minus
+from postprocess.run_scalars import level_text
 from postprocess.stress_tables import contact_definition, contact_section, root_section
 
 #: the four LOA moments (issue-12 names), with the mesh and the pinion each belongs to
@@ -510,7 +511,7 @@ def _differential_reading(runs, ref, names, d_t5, dz_sprp, face) -> list[str]:
         }
         main = max(terms, key=lambda k: abs(terms[k]))
         out.append(
-            f"- {n} ({_label(s)}), {len(s['positions'])} positions at level {s['level']}: D = "
+            f"- {n} ({_label(s)}), {len(s['positions'])} positions at level {level_text(s)}: D = "
             f"{d['D_fe']:.1f} N m = {d['D_pitch']:.1f} (at the pitch points) "
             + " ".join(f"{v:+.1f} ({k})" for k, v in terms.items())
             + f"; the largest term is {main}. Over the mesh cycle D runs "
@@ -828,7 +829,7 @@ def write_report(
     for name in _ordered(runs):
         s = runs[name]
         lines.append(
-            f"| {name} | {_label(s)} | {s['scene']} | {s['level']} | {s['degree']} | "
+            f"| {name} | {_label(s)} | {s['scene']} | {level_text(s)} | {s['degree']} | "
             f"{len(s['positions'])} | {s['dofs']} | {s['wall_time_s']:.0f} |"
         )
     lines += ["", uncertainty_note(runs), "", *failed_positions_lines(runs)]

@@ -52,8 +52,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from postprocess.run_scalars import run_label
-
 SAFETY = 1.25  # Roache's factor of safety for a three-grid study with the observed order
 P_MIN = 0.5  # below: stagnant (see the module docstring)
 P_BOUNDS = (-10.0, 20.0)  # the observed order is searched in here
@@ -320,13 +318,13 @@ def reproduction_text(entry: Mapping) -> str:
 
 
 # ------------------------------------------------------------------ summaries and reports
-def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dict:
-    """The ``uncertainty`` entries of a summary solved at ``level``/``degree`` from a
-    convergence ``study`` (a convergence.json): ``uncertainty`` {key: relative} for every
-    FE scalar (mesh-independent ones left out; None where the value is ~0),
-    ``uncertainty_abs`` {key: in the scalar's unit} and ``uncertainty_source``. No
-    convergence run at this level and degree: ``uncertainty`` None and a note."""
-    label = run_label(level, degree)
+def uncertainty_for(study: Mapping, label: str, source: str) -> dict:
+    """The ``uncertainty`` entries of a summary solved as the run ``label``
+    (:func:`postprocess.run_scalars.run_label`: ``L1P1``, ``L1P1F2R2``) from a convergence
+    ``study`` (a convergence.json): ``uncertainty`` {key: relative} for every FE scalar
+    (mesh-independent ones left out; None where the value is ~0), ``uncertainty_abs`` {key:
+    in the scalar's unit} and ``uncertainty_source``. No convergence run of that label:
+    ``uncertainty`` None and a note."""
     src = {
         "convergence_study": source,
         "case": study.get("case"),
@@ -337,8 +335,7 @@ def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dic
     if label not in study.get("labels", []):
         have = ", ".join(study.get("labels", [])) or "none"
         src["note"] = (
-            f"the convergence study {source} has no run at level {level}, degree {degree} "
-            f"(it has {have}): no uncertainty"
+            f"the convergence study {source} has no run {label} (it has {have}): no uncertainty"
         )
         return {"uncertainty": None, "uncertainty_abs": None, "uncertainty_source": src}
     rel, absolute = {}, {}
@@ -355,7 +352,7 @@ def uncertainty_for(study: Mapping, level: int, degree: int, source: str) -> dic
         else f"GCI with Fs {SAFETY}, or the spread of the levels where convergence is not monotone"
     )
     src["note"] = (
-        f"relative discretisation uncertainty of each scalar at this level and degree ({how}), "
+        f"relative discretisation uncertainty of each scalar of this run ({how}), "
         "from the study's position(s); a case sharing the gear set, scene and numerics uses "
         "the same study"
     )

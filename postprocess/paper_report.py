@@ -26,6 +26,7 @@ from pathlib import Path
 from gears.analytic import printed
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
+from postprocess.run_scalars import level_text
 
 #: the goal of issue 12 for the whole ``make`` on 2 cores at the default level
 GOAL_WALL_S = 20 * 60.0
@@ -249,7 +250,7 @@ def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
         s.get("scene", "-"),
         f"{_tilt(s):.3g}",
         f"{s['inputs']['study_case']['material']['gear_modulus_factor']:g}",
-        str(s["level"]),
+        level_text(s),
         str(len(s["positions"])),
         str(s.get("dofs", "-")),
         *(f"{s[k]:.1f}{plus_minus(s, k)}" if k in s else "-" for k in moments),

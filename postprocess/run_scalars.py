@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from cases.study_case import VARIANT_FIELDS
 from postprocess.paper_moments import MEAN_KEYS
 
 # Entries under a stress group that are not discretisation results: where a maximum sits,
@@ -110,8 +111,9 @@ def run_label(
     )
 
 
-#: the sizes a convergence run may take from another level (:func:`meshing.sizing.with_sizes`)
-VARIANT_KEYS = ("flank_level", "fillet_level")
+#: the sizes a run may take from another level (:func:`meshing.sizing.with_sizes`), as a
+#: case's ``[model]`` names them
+VARIANT_KEYS = VARIANT_FIELDS
 
 
 def variant(row: Mapping) -> dict[str, int]:
@@ -120,6 +122,21 @@ def variant(row: Mapping) -> dict[str, int]:
     return {k: row[k] for k in VARIANT_KEYS if row.get(k) is not None}
 
 
+def level_text(row: Mapping) -> str:
+    """A report's level cell of a run row or summary: ``1``, or ``1 (level-2 flanks and
+    fillets)`` for one whose active flanks and contact grid (``flank_level``) and refined root
+    fillets (``fillet_level``) are another level's."""
+    v = variant(row)
+    if not v:
+        return str(row["level"])
+    flanks, fillets = v.get("flank_level"), v.get("fillet_level")
+    if flanks == fillets:
+        return f"{row['level']} (level-{flanks} flanks and fillets)"
+    parts = [f"level-{flanks} flanks"] * (flanks is not None)
+    parts += [f"level-{fillets} fillets"] * (fillets is not None)
+    return f"{row['level']} ({', '.join(parts)})"
+
+
 def row_label(row: Mapping) -> str:
-    """The :func:`run_label` of a convergence study's run row."""
+    """The :func:`run_label` of a convergence study's run row (or a summary)."""
     return run_label(row["level"], row["degree"], row.get("flank_level"), row.get("fillet_level"))

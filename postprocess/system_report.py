@@ -22,6 +22,7 @@ from pathlib import Path
 from postprocess.convergence import uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
+from postprocess.run_scalars import level_text
 
 #: the columns of the comparison, per gear-set kind (single pinion: section 3's pinion
 #: frame; double pinion: section 5's SP and RP frames and the four LOA moments)
@@ -314,7 +315,7 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
             if r is None:
                 continue
             vals = " | ".join(_fmt(q, r.get(q)) + _pm(r, q) for q in quantities)
-            lines.append(f"| {name} | {_inputs(r)} | {label} | {r['level']} | {vals} |")
+            lines.append(f"| {name} | {_inputs(r)} | {label} | {level_text(r)} | {vals} |")
     scenes = {f"{n} ({lab})": rs[n] for n in system for lab, rs in
               (("branch", branch), ("system", system)) if n in rs}  # fmt: skip
     lines += ["", uncertainty_note(scenes), *failed_positions_lines(scenes), "",

@@ -58,7 +58,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case
+from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case, without_variant
 from meshing import sizing
 from meshing.submodel import submodel_level
 from postprocess.convergence import reproduction_text
@@ -99,7 +99,8 @@ def _variant(run: Run) -> dict[str, int]:
 def _reuse_key(study, run: Run, positions: int, split: bool = False, ooc: bool = False) -> dict:
     level, degree, flank, fillet = run
     return {
-        "inputs_hash": inputs_hash(study),
+        # a run sets its sizes itself: the case's own (model.flank_level, ...) are not its inputs
+        "inputs_hash": inputs_hash(without_variant(study)),
         "code_hash": code_hash(),
         "level": level,
         "degree": degree,
@@ -365,10 +366,11 @@ def _record_of(case, records: Path, option: str) -> tuple[Path, dict]:
 def _same_inputs(case, row: dict, option: str) -> None:
     """:class:`InputError` unless the record's run ``row`` was solved from ``case``'s inputs."""
     have = (row.get("reuse_key") or {}).get("inputs_hash")
-    if have != inputs_hash(case):
+    today = inputs_hash(without_variant(case))
+    if have != today:
         raise InputError(
             f"{option}: {case.name}'s inputs changed since the record (its inputs hash "
-            f"{(have or '?')[:12]}, today's {inputs_hash(case)[:12]}): record it again"
+            f"{(have or '?')[:12]}, today's {today[:12]}): record it again"
         )
 
 

@@ -65,6 +65,7 @@ from postprocess.contact_pattern import draw_contact_patterns
 from postprocess.flank_pictures import draw_flank_patterns
 from postprocess.loaded_scene import loaded_scene_picture
 from postprocess.paper_moments import MEAN_KEYS
+from postprocess.run_scalars import run_label
 from postprocess.summary import summarise
 from solvers.body_store import BodyStore
 from studies.cli import (
@@ -92,10 +93,13 @@ from studies.uncertainty import summary_uncertainty
 POSITION_KEYS = ("roll", "meshes", "pinions", "timings", "dofs", "reuse_key")
 
 
-def reuse_key(study: StudyCase, level: int, degree: int, roll: float) -> dict:
-    """What a finished position must match to be reused."""
+def reuse_key(
+    study: StudyCase, level: int, degree: int, roll: float, variant: dict | None = None
+) -> dict:
+    """What a finished position must match to be reused; ``variant``: the sizes it takes
+    from other levels (``flank_level``, ``fillet_level``)."""
     return {"inputs_hash": inputs_hash(study), "code_hash": code_hash(), "level": level,
-            "degree": degree, "roll": roll}  # fmt: skip
+            "degree": degree, **(variant or {}), "roll": roll}  # fmt: skip
 
 
 def _finished(path: Path, key: dict, study: StudyCase, progress: Progress) -> dict | None:
@@ -120,9 +124,12 @@ def _finished(path: Path, key: dict, study: StudyCase, progress: Progress) -> di
     return old
 
 
-def _checked_settings(study: StudyCase, level, positions) -> tuple[int, int]:
-    """The level and number of positions of the run (the case file's unless given), checked:
+def _checked_settings(study: StudyCase, level, positions) -> tuple[int, dict, int]:
+    """The level, the sizes taken from other levels and the number of positions of the run
+    (the case file's unless given; a level given is that level's own sizes: the case's
+    ``model.flank_level`` / ``fillet_level`` go with the case's level), checked:
     :class:`~studies.cli.InputError` names the option and what is allowed."""
+    variant = study.model.variant if level is None else {}
     level = study.model.level if level is None else level
     n_pos = study.model.positions if positions is None else positions
     try:
@@ -134,7 +141,7 @@ def _checked_settings(study: StudyCase, level, positions) -> tuple[int, int]:
             f"{study.name}: --positions {n_pos!r}: must be an integer from 1 to "
             f"{MAX_POSITIONS} (mesh positions over one base pitch)"
         )
-    return level, n_pos
+    return level, variant, n_pos
 
 
 def _output_folder(study: StudyCase, out_root: Path) -> Path:
@@ -177,6 +184,7 @@ def run_study(
     store: BodyStore | None = None,
     scene: str | None = None,
     root_fillets: str | None = None,
+    out_of_core: bool | None = None,
 ) -> dict:
     """Solve every position (reusing finished ones), then write summary.json and the pictures.
     Returns the summary (on every rank). Raises :class:`~studies.cli.StudyFailed` after
@@ -188,7 +196,9 @@ def run_study(
     ``store``: the bodies kept across positions and cases (factorized once; default: kept
     for this study's positions); ``scene``: solve in this scene instead of the case's
     ``model.scene`` (recorded in the summary's inputs); ``root_fillets``: instead of the
-    case's ``numerics.root_fillets`` (recorded the same way)."""
+    case's ``numerics.root_fillets`` (recorded the same way); ``out_of_core``: instead of the
+    case's ``numerics.out_of_core`` (the LU factors on disk: the same answer to round-off,
+    not an input)."""
     progress = Progress(comm) if progress is None else progress
     study = load_study_case(name_or_path)
     if scene is not None:
@@ -202,8 +212,12 @@ def run_study(
         study = dataclasses.replace(
             study, numerics=dataclasses.replace(study.numerics, root_fillets=root_fillets)
         )
+    if out_of_core is not None:
+        study = dataclasses.replace(
+            study, numerics=dataclasses.replace(study.numerics, out_of_core=bool(out_of_core))
+        )
     store = BodyStore() if store is None else store
-    level, n_pos = _checked_settings(study, level, positions)
+    level, variant, n_pos = _checked_settings(study, level, positions)
     out = _output_folder(study, out_root)
     try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
         scene = study_scene(study, 0.0)
@@ -213,20 +227,23 @@ def run_study(
     own = ranks is None
     ranks = Ranks(comm) if own else ranks
     try:
-        return _run(study, Path(out_root), out, level, n_pos, comm, progress, ranks, store)
+        return _run(study, Path(out_root), out, (level, variant), n_pos, comm, progress, ranks,
+                    store)  # fmt: skip
     finally:
         if own:
             ranks.free()
 
 
-def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progress, ranks, store):
+def _run(study, out_root: Path, out: Path, sizes, n_pos: int, comm, progress, ranks, store):
+    level, variant = sizes  # the level and the sizes it takes from others (model.flank_level)
     degree = study.numerics.degree
+    label = run_label(level, degree, **variant)
     pos_dir = out / "positions"
     on_root(comm, lambda: _make_folders(out_root, out), f"creating {pos_dir}")
     on_root(comm, _check_mesh_cache, "mesh cache")
     t0 = time.perf_counter()
     rolls = roll_angles(study, n_pos)
-    keys = [reuse_key(study, level, degree, roll) for roll in rolls]
+    keys = [reuse_key(study, level, degree, roll, variant) for roll in rolls]
 
     def read_finished():
         return [
@@ -237,7 +254,7 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
     reused = [k for k, p in enumerate(old) if p is not None]
     to_solve = [k for k in range(n_pos) if k not in reused]
     progress.info(
-        f"{study.name}: {n_pos} position{'s' * (n_pos > 1)} at level {level}, P{degree}, "
+        f"{study.name}: {n_pos} position{'s' * (n_pos > 1)} at {_sizes_text(label, level, variant)}, "
         f"{comm.size} rank{'s' * (comm.size > 1)} -> {out}"
     )
     if reused:
@@ -275,7 +292,7 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
         failure, write_fields = None, None
         try:
             got = solve_position(study, roll, comm, level=level, keep_fields=k == 0,
-                                 progress=line, store=store)  # fmt: skip
+                                 progress=line, store=store, **variant)  # fmt: skip
             pos, write_fields = got if k == 0 else (got, None)
         except Exception as exc:  # shared with every rank below; finished positions stay
             failure = (one_line(exc), traceback.format_exc())
@@ -308,6 +325,8 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
     meta = {
         "level": level,
         "degree": degree,
+        **variant,
+        "run": label,
         "scene": study.model.scene,
         "inputs": study_inputs(study),
         "inputs_hash": inputs_hash(study),
@@ -318,7 +337,8 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
     }
     summary = summarise(study, solved, failed, meta)
     # the discretisation uncertainty per scalar, from the gear set's convergence study
-    found = on_root(comm, lambda: summary_uncertainty(study, level, degree, out_root),
+    found = on_root(comm, lambda: summary_uncertainty(study, level, degree, out_root,
+                                                      variant=variant),
                     f"reading the convergence studies under {out_root}")  # fmt: skip
     summary.update(found)
     summary["warnings"] = plausibility_warnings(study, summary)
@@ -327,7 +347,8 @@ def _run(study, out_root: Path, out: Path, level: int, n_pos: int, comm, progres
     on_root(
         comm, lambda: write_json(out / "summary.json", summary), f"writing {out / 'summary.json'}"
     )
-    _pictures(study, solved, out, level, comm, progress)
+    mesh_sizes = sizing.with_sizes(level, **variant) if variant else level
+    _pictures(study, solved, out, mesh_sizes, comm, progress)
     if failed:
         raise StudyFailed(
             f"{study.name}: {len(failed)} of {n_pos} positions failed ({_distinct(failed)}); "
@@ -392,6 +413,16 @@ def _write_fields(write_fields, fields: Path, study, comm, ranks: Ranks, progres
             pass
 
 
+def _sizes_text(label: str, level: int, variant: dict) -> str:
+    """``L1P1F2R2 (level 1 with level 2's flanks and contact grid, and level 2's refined
+    fillets)``; ``L1P1`` for a level's own sizes."""
+    if not variant:
+        return label
+    words = {"flank_level": "flanks and contact grid", "fillet_level": "refined fillets"}
+    parts = [f"level {v}'s {words[k]}" for k, v in variant.items()]
+    return f"{label} (level {level} with {', and '.join(parts)})"
+
+
 def _headline(study: StudyCase, pos: dict) -> str:
     if study.gearset.kind == "single_pinion":
         return f"My_pin {pos['My_pin']:.2f} N m, ZS {pos['ZS']:+.2f}, ZR {pos['ZR']:+.2f} mm"
@@ -399,9 +430,10 @@ def _headline(study: StudyCase, pos: dict) -> str:
             f"ZS {pos['ZS']:+.2f}, ZR {pos['ZR']:+.2f} mm")  # fmt: skip
 
 
-def _pictures(study: StudyCase, solved: list[dict], out: Path, level: int, comm, progress):
-    """Contact patterns and the loaded scene (rank 0). A picture that cannot be drawn is a
-    warning: the numbers are in summary.json already."""
+def _pictures(study: StudyCase, solved: list[dict], out: Path, level, comm, progress):
+    """Contact patterns and the loaded scene (rank 0; ``level``: the sizes solved, an index
+    or a :class:`meshing.sizing.Level`). A picture that cannot be drawn is a warning: the
+    numbers are in summary.json already."""
 
     def patterns():
         draw_contact_patterns(study, solved, out)
@@ -461,6 +493,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--root-fillets", choices=ROOT_FILLETS, default=None,
                     help="refine the root fillets (root stress read) or not, instead of the "
                     "case's numerics.root_fillets")  # fmt: skip
+    ap.add_argument("--out-of-core", action="store_true", default=None,
+                    help="keep the bodies' LU factors on disk (numerics.out_of_core: the same "
+                    "answer to round-off, a fraction of the memory)")  # fmt: skip
     ap.add_argument("--no-reuse", action="store_true",
                     help="factorize every body at every position")  # fmt: skip
     ap.add_argument("--quiet", action="store_true", help="only warnings and errors (for CI)")
@@ -502,7 +537,7 @@ def run_case(name: str, args: argparse.Namespace, comm, progress: Progress, rank
     failure = None
     try:
         run_study(name, args.out, args.level, args.positions, comm, progress, ranks, store,
-                  args.scene, args.root_fillets)  # fmt: skip
+                  args.scene, args.root_fillets, args.out_of_core)  # fmt: skip
     except KeyboardInterrupt:
         progress.error(f"{name}: interrupted; finished positions are kept")
         return EXIT_INTERRUPTED

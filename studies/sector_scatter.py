@@ -32,7 +32,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from cases.study_case import inputs_hash, load_study_case
+from cases.study_case import inputs_hash, load_study_case, without_variant
 from postprocess.sector_scatter import level_inputs, other_size_spreads
 from studies.cli import InputError, guarded
 from studies.convergence import reduce_records
@@ -69,10 +69,11 @@ def record_scatter(case: str, level: int, out: Path, records: Path = RECORDS,
     if not path.is_file():
         raise InputError(f"--case {study.name}: no convergence record in {records}")
     sizes, conv = read_json(src), read_json(path)
-    if sizes.get("key", {}).get("inputs") != inputs_hash(study):
+    inputs = inputs_hash(without_variant(study))  # the runs set their sizes themselves
+    if sizes.get("key", {}).get("inputs") != inputs:
         raise InputError(f"{src}: solved from other inputs than today's case file "
                          f"{study.name}; run make sector-sizes again")  # fmt: skip
-    if level_inputs(conv, level) != {inputs_hash(study)}:
+    if level_inputs(conv, level) != {inputs}:
         raise InputError(f"--case {study.name}: the record's level-{level} run was solved from "
                          "other inputs than today's case file; record it again first")  # fmt: skip
     if level != conv.get("case_level"):

@@ -125,10 +125,17 @@ def reproduced_by(conv: dict, source: str) -> dict | None:
 
 
 def summary_uncertainty(
-    study: StudyCase, level: int, degree: int, results: Path, records: Path | None = RECORDS
+    study: StudyCase,
+    level: int,
+    degree: int,
+    results: Path,
+    records: Path | None = RECORDS,
+    variant: dict | None = None,
 ) -> dict:
     """The ``uncertainty``, ``uncertainty_abs`` and ``uncertainty_source`` entries of the
-    summary of ``study`` solved at ``level``/``degree`` with results under ``results``.
+    summary of ``study`` solved at ``level``/``degree`` (with the sizes ``variant`` takes from
+    other levels: ``flank_level``, ``fillet_level``; the study's run of that label) with
+    results under ``results``.
 
     The studies of its match key under ``<results>/convergence``, then those under
     ``records`` (None: none); the first one solved by today's code, else the first one,
@@ -141,7 +148,7 @@ def summary_uncertainty(
     found = list(_studies(folder, study.name, key, unreadable))
     if records is not None:
         found += list(_studies(records, study.name, key, unreadable))
-    out = _from_studies(study, level, degree, folder, key, found)
+    out = _from_studies(study, run_label(level, degree, **(variant or {})), folder, key, found)
     if unreadable:  # a damaged study of this machine must not stand aside unseen
         out["uncertainty_source"]["note"] += "; skipped as unreadable: " + "; ".join(unreadable)
     return out
@@ -163,16 +170,15 @@ def _with_kept_scatter(conv: dict, found) -> tuple[dict, Path | None]:
     return conv, None
 
 
-def _from_studies(study, level, degree, folder, key, found) -> dict:
-    """:func:`summary_uncertainty` from the readable studies ``found``."""
+def _from_studies(study, label: str, folder, key, found) -> dict:
+    """:func:`summary_uncertainty` of the run ``label`` from the readable studies ``found``."""
     if found:
         now = [code_hash()]
         # a study whose run at this level failed (a timeout) gives no ± there: the next one
-        label = run_label(level, degree)
         have = [(p, c) for p, c in found if label in c.get("labels", [])] or found
         path, conv = next(((p, c) for p, c in have if solved_with(c) == now), have[0])
         conv, scatter_from = _with_kept_scatter(conv, found)
-        out = uncertainty_for(conv, level, degree, str(path))
+        out = uncertainty_for(conv, label, str(path))
         src = out["uncertainty_source"]
         if scatter_from is not None:
             src["sector_scatter_from"] = str(scatter_from)

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from cases.study_case import inputs_hash
+from cases.study_case import inputs_hash, without_variant
 from studies.files import atomic_write_text, on_root, read_json, write_json
 from studies.provenance import code_hash
 
@@ -41,8 +41,9 @@ def run_variants(study, out: Path, stem: str, level: int, roll: float, names: li
     row is kept. Returns the file's path."""
     comm = MPI.COMM_WORLD
     path = variant_path(out, study.name, stem, level, roll)
-    key = {"inputs": inputs_hash(study), "code_hash": code_hash(), "tool": tool_hash(solve),
-           "level": level, "roll": roll}  # fmt: skip
+    # a variant sets its sizes itself: the case's own sizes are not its inputs
+    key = {"inputs": inputs_hash(without_variant(study)), "code_hash": code_hash(),
+           "tool": tool_hash(solve), "level": level, "roll": roll}  # fmt: skip
     data = {"case": study.name, "level": level, "roll": roll, "key": key, "variants": []}
     if path.is_file():
         old = read_json(path)

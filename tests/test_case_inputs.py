@@ -22,6 +22,7 @@ from cases.study_case import (
     load_study_case,
     parse_study_case,
     study_inputs,
+    without_variant,
 )
 from gears.material import STEEL
 from gears.spec import GearSpec
@@ -437,7 +438,8 @@ def test_study_inputs_are_json_with_resolved_data():
         "gear_modulus_factor": 1.0,
     }
     assert sc["bearing"]["axial_stiffness"] == 2.33e10  # default filled in
-    assert sc["model"] == {"scene": "one_branch", "level": 1, "positions": 5}
+    assert sc["model"] == {"scene": "one_branch", "level": 1, "flank_level": 2, "fillet_level": 2,
+                           "positions": 5}  # fmt: skip
     assert (gs["kind"], gs["planets"], gs["input_torque"]) == ("single_pinion", 3, 1378.7)
     assert gs["power_path"] == ["sun", "pinion", "ring"]
     assert set(gs["gears"]["ring"]) == {f.name for f in dataclasses.fields(GearSpec)}
@@ -581,3 +583,25 @@ def test_pin_errors_that_are_not_pairs_are_echoed_as_written(value):
     with pytest.raises(CaseError) as info:
         parse_study_case(data, "1-GA.toml", CASE_DIR / "1-GA.toml")
     assert f"pin_position_errors_um = {value!r}: must be" in str(info.value)
+
+
+def test_flank_and_fillet_levels_of_a_case_and_the_inputs_of_a_run_setting_its_own_sizes():
+    """``[model] flank_level`` / ``fillet_level``: checked as the level is; the level's own
+    is no variant; a case without them hashes as before they existed (the stored positions
+    and records of such a case stand), and ``without_variant`` gives a run that sets its
+    sizes itself (a convergence run) the inputs of the case without them."""
+    data = tomllib.loads((CASE_DIR / "1-GB.toml").read_text())
+    gb = parse_study_case(data, "1-GB.toml")
+    assert gb.model.variant == {"flank_level": 2, "fillet_level": 2}
+    plain = mutated(mutated(data, ["model", "flank_level"], None), ["model", "fillet_level"], None)
+    own = parse_study_case(plain, "x.toml")
+    assert own.model.variant == {}
+    assert "flank_level" not in study_inputs(own)["study_case"]["model"]
+    assert inputs_hash(without_variant(gb)) == inputs_hash(own) != inputs_hash(gb)
+    same = mutated(plain, ["model", "flank_level"], 1)  # level 1's own flanks: no variant
+    assert parse_study_case(same, "x.toml").model.variant == {}
+    assert inputs_hash(parse_study_case(same, "x.toml")) == inputs_hash(own)
+    for bad in (4, -1, 1.5, True, "2"):
+        wrong = mutated(plain, ["model", "fillet_level"], bad)
+        with pytest.raises(CaseError, match=r"model.fillet_level = .*: must be an integer 0..3"):
+            parse_study_case(wrong, "x.toml")

@@ -175,15 +175,15 @@ def test_uncertainty_entry_and_plus_minus():
             },
         },
     }
-    got = cv.uncertainty_for(study, 1, 1, "results/convergence/1-GB/convergence.json")
+    got = cv.uncertainty_for(study, "L1P1", "results/convergence/1-GB/convergence.json")
     assert got["uncertainty"] == {"My_pin": 0.02, "ZS": 0.5}
     assert got["uncertainty_source"]["case"] == "1-GB"
     summary = {**SUMMARY, **got, "case": "1-GB"}
     assert plus_minus(summary, "My_pin") == " ± 0.8"  # 2 % of 40 N m
     assert plus_minus(summary, "ZS", ".2f") == " ± 0.10"  # the study's own case: absolute mm
     assert plus_minus(summary, "Mx_pin") == ""
-    none = cv.uncertainty_for(study, 3, 1, "x.json")
-    assert none["uncertainty"] is None and "no run at level 3" in none["uncertainty_source"]["note"]
+    none = cv.uncertainty_for(study, "L3P1", "x.json")
+    assert none["uncertainty"] is None and "no run L3P1" in none["uncertainty_source"]["note"]
     assert plus_minus({**SUMMARY, **none}, "My_pin") == ""
 
 

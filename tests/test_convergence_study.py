@@ -319,8 +319,7 @@ def test_summary_finds_the_study_of_its_gear_set(tmp_path):
     assert "bending_stress_iso6336_nominal.sun" not in got["uncertainty"]
     missing = summary_uncertainty(ga, 3, 1, tmp_path, records=None)
     assert (
-        missing["uncertainty"] is None
-        and "no run at level 3" in (missing["uncertainty_source"]["note"])
+        missing["uncertainty"] is None and "no run L3P1" in (missing["uncertainty_source"]["note"])
     )
     case2 = summary_uncertainty(load_study_case("2B-GA"), 1, 1, tmp_path, records=None)
     assert case2["uncertainty"] is None and "gear set case2" in case2["uncertainty_source"]["note"]
@@ -929,7 +928,7 @@ def test_a_two_level_study_gives_its_off_ladder_run_a_bound():
     assert table["My_pin"]["status"] == "two-grid"
     assert table["My_pin"]["uncertainty"]["L0P2"] == pytest.approx(0.8 / 39.8)
     conv = {"labels": ["L0P1", "L1P1", "L0P2"], "scalars": table}
-    assert uncertainty_for(conv, 0, 2, "x")["uncertainty"]["My_pin"] == pytest.approx(0.8 / 39.8)
+    assert uncertainty_for(conv, "L0P2", "x")["uncertainty"]["My_pin"] == pytest.approx(0.8 / 39.8)
 
 
 def test_the_sprp_differential_is_judged_against_its_moments():

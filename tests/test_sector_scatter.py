@@ -7,7 +7,7 @@ import shutil
 
 import pytest
 
-from cases.study_case import inputs_hash, load_study_case
+from cases.study_case import inputs_hash, load_study_case, without_variant
 from meshing.sizing import LEVELS
 from meshing.submodel import submodel_level
 from postprocess.convergence_study import reduce_study, scalar_table
@@ -136,8 +136,9 @@ def _setup(tmp_path, **key):
     write_json(path, {k: v for k, v in read_json(path).items() if k != "sector_scatter"})
     reduce_records(records)
     study = load_study_case("1-GB")
+    inputs = inputs_hash(without_variant(study))  # a diagnostic sets its sizes itself
     sizes = {"case": "1-GB", "level": 1, "roll": 0.0,
-             "key": {"inputs": inputs_hash(study), "code_hash": "abc", "level": 1, "roll": 0.0},
+             "key": {"inputs": inputs, "code_hash": "abc", "level": 1, "roll": 0.0},
              "variants": ROWS}  # fmt: skip
     sizes.update(key)
     (out / "1-GB").mkdir(parents=True)

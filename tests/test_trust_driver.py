@@ -99,10 +99,12 @@ class Stub:
         self.fields_error: Exception | None = None
         self.fields_written: list[Path] = []
         self.out: Path | None = None
+        self.calls: list[dict] = []  # the study, level and other keywords of each call
 
     def __call__(self, study, roll, comm, *, level=None, keep_fields=False, progress=None, **kw):
         k = len(self.rolls)
         self.rolls.append(roll)
+        self.calls.append({"study": study, "level": level, **kw})
         for stage in STAGES:
             if progress is not None:
                 progress(stage)
@@ -226,6 +228,37 @@ def test_contact_model_runs_and_is_recorded(stub, tmp_path, capsys, model):
     assert len(stub.rolls) == N_POS
     summary = json.loads((tmp_path / "out" / "1-GA" / "summary.json").read_text())
     assert summary["inputs"]["study_case"]["numerics"]["contact_model"] == model
+
+
+def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp_path, capsys):
+    """The shipped case runs level 1 with level 2's flanks, contact grid and refined fillets
+    (``[model] flank_level`` / ``fillet_level``): the solver gets them, the summary names the
+    run ``L1P1F2R2`` and takes its ± at that run of the recorded study; ``--level`` is that
+    level's own sizes (the run ``L0P1``); ``--out-of-core`` reaches the solver, and a position
+    is reused only at the same sizes."""
+    out = tmp_path / "out" / "1-GA" / "summary.json"
+    assert cli(tmp_path, "1-GA", "--positions", 1, "--out-of-core") == 0
+    call = stub.calls[-1]
+    assert (call["level"], call["flank_level"], call["fillet_level"]) == (1, 2, 2)
+    assert call["study"].numerics.out_of_core
+    summary = json.loads(out.read_text())
+    assert (summary["run"], summary["flank_level"], summary["fillet_level"]) == ("L1P1F2R2", 2, 2)
+    assert summary["uncertainty_source"]["run"] == "L1P1F2R2" and summary["uncertainty"]
+    assert summary["inputs"]["study_case"]["model"]["flank_level"] == 2
+    assert cli(tmp_path, "1-GA", "--positions", 1, "--level", 0) == 0
+    call = stub.calls[-1]
+    assert call["level"] == 0 and "flank_level" not in call and "fillet_level" not in call
+    assert not call["study"].numerics.out_of_core  # the case file's
+    summary = json.loads(out.read_text())
+    assert summary["run"] == "L0P1" and "flank_level" not in summary
+    assert summary["uncertainty_source"]["run"] == "L0P1"
+    assert len(stub.calls) == 2
+    assert cli(tmp_path, "1-GA", "--positions", 1) == 0  # other sizes than position 0's
+    assert len(stub.calls) == 3
+    assert cli(tmp_path, "1-GA", "--positions", 1) == 0  # the same: reused
+    assert len(stub.calls) == 3
+    said = "L1P1F2R2 (level 1 with level 2's flanks and contact grid, and level 2's refined fillets)"
+    assert said in capsys.readouterr().out
 
 
 def test_unknown_contact_model_refused(stub, tmp_path, capsys):
