@@ -194,9 +194,13 @@ def _cases_section(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
         "(pinion frames of singh2007), offsets mm from mid face width, stresses MPa (contact:",
         "largest interior contact stress over the mesh cycle, the solved cell pressure on a",
         "zone grid and Hertz at the line load on a line grid, growing as the square root of",
-        "the gears' modulus; root: largest FE fillet stress). ±: the discretisation",
-        "uncertainty at the case's level from the convergence study of its gear set (`make",
-        "convergence`; see Convergence below); none where no study matches.",
+        "the gears' modulus; root: largest FE fillet surface stress over the mesh cycle, the",
+        "recovered reading (`solvers/surface_recovery.py`, what the convergence studies",
+        "target), the nodal maximum marked `n` for a summary without it). level: the run's",
+        "sizes (`1 (level-2 flanks and fillets)`: the case files' `flank_level` /",
+        "`fillet_level`). ±: the discretisation uncertainty of that run from the convergence",
+        "study of its gear set (`make convergence`; see Convergence below); none where no",
+        "study matches.",
         "",
     ]
     single = [(f, s) for f, s in runs if s["inputs"]["gearset"]["kind"] == "single_pinion"]
@@ -233,12 +237,16 @@ def _cases_section(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
 def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
     cyc = s.get("contact_stress_cycle") or {}
     contact = _max(c.get("interior_p_max_MPa") for c in cyc.values())
-    root = _max(v for k, v in (s.get("bending_stress") or {}).items() if k != "locations")
+    # the recovered root stress where the summary has it (the convergence studies' target)
+    recovered = s.get("bending_stress_recovered") or {}
+    r_name = "bending_stress_recovered" if any(recovered.values()) else "bending_stress"
+    r_vals = {k: v for k, v in (s.get(r_name) or {}).items() if k != "locations" and v}
+    root = _max(r_vals.values())
     # the keys of the two maxima, for their uncertainty
     c_key = next((f"contact_stress_cycle.{m}.interior_p_max_MPa" for m, c in cyc.items()
                   if contact and c.get("interior_p_max_MPa") == contact), "")  # fmt: skip
-    r_key = next((f"bending_stress.{k}" for k, v in (s.get("bending_stress") or {}).items()
-                  if root and v == root), "")  # fmt: skip
+    r_key = next((f"{r_name}.{k}" for k, v in r_vals.items() if root and v == root), "")
+    nodal = "" if r_name == "bending_stress_recovered" else " n"
     pics = ", ".join(
         _link(folder / p, results, p.removesuffix(".png").split("_")[0])
         for p in PICTURES
@@ -256,7 +264,7 @@ def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
         *(f"{s[k]:.1f}{plus_minus(s, k)}" if k in s else "-" for k in moments),
         *(f"{s[k]:+.2f}{plus_minus(s, k, '.2f')}" if k in s else "-" for k in offsets),
         f"{contact:.0f}{plus_minus(s, c_key, '.0f')}" if contact else "-",
-        f"{root:.0f}{plus_minus(s, r_key, '.0f')}" if root else "-",
+        f"{root:.0f}{plus_minus(s, r_key, '.0f')}{nodal}" if root else "-",
         pics or "-",
     ]
     return "| " + " | ".join(cells) + " |"

@@ -17,6 +17,7 @@ contact_stress_cycle`). Older summaries without a field print "-".
 from __future__ import annotations
 
 from postprocess.plus_minus import plus_minus
+from postprocess.run_scalars import level_text
 
 
 def _f(v, fmt: str = ".0f") -> str:
@@ -104,7 +105,8 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
             # Z = -z (scene), the axis of ZS / ZR (solvers.gear_train): a root maximum at the
             # face end the load centroid leans to has the centroid's sign (0.0 - z: no -0.0)
             where = _where(at.get(k))
-            head = f"| {name} | {s.get('level', '-')} / {s.get('degree', '-')} " if i == 0 else (
+            lv = level_text(s) if "level" in s else "-"
+            head = f"| {name} | {lv} / {s.get('degree', '-')} " if i == 0 else (
                 "| | ")  # fmt: skip
             iso_txt = f"{_f(sig)} ({_f(sig19)})" if sig19 else _f(sig)
             lines.append(

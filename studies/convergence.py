@@ -543,8 +543,9 @@ def study(args) -> Path | None:
         failed = failed_runs(conv)
         if failed:
             raise InputError(
-                f"--record: run(s) {', '.join(failed)} failed ({report}); a record needs every "
-                f"run of its ladder, so nothing was recorded (the study stays in {folder})"
+                f"--record: run(s) {', '.join(failed)} failed or skipped ({report}); a record "
+                "needs every run of its ladder, so nothing was recorded (the study stays in "
+                f"{folder})"
             )
         print(f"recorded {record(folder, conv, args.records)}")
     return report

@@ -254,7 +254,8 @@ def _run(study, out_root: Path, out: Path, sizes, n_pos: int, comm, progress, ra
     reused = [k for k, p in enumerate(old) if p is not None]
     to_solve = [k for k in range(n_pos) if k not in reused]
     progress.info(
-        f"{study.name}: {n_pos} position{'s' * (n_pos > 1)} at {_sizes_text(label, level, variant)}, "
+        f"{study.name}: {n_pos} position{'s' * (n_pos > 1)} at "
+        f"{_sizes_text(label, level, variant)}, "
         f"{comm.size} rank{'s' * (comm.size > 1)} -> {out}"
     )
     if reused:

@@ -86,10 +86,13 @@ def _studies(folder: Path, name: str, key: dict, unreadable: list[str] | None = 
 
 
 def failed_runs(conv: dict) -> list[str]:
-    """Labels of the runs a convergence study holds as failed (an ``error``: out of memory,
-    a timeout, a solver error)."""
-    return [str(r.get("label")) for r in conv.get("runs") or []
-            if isinstance(r, dict) and "error" in r]  # fmt: skip
+    """Labels of the runs of its ladder a convergence study lacks: held as failed (an
+    ``error``: out of memory, a timeout, a solver error) or skipped (``skipped``: too little
+    free memory for an in-core run off the ladder, ``--min-free-gb``)."""
+    failed = [str(r.get("label")) for r in conv.get("runs") or []
+              if isinstance(r, dict) and "error" in r]  # fmt: skip
+    skipped = [str(r.get("label")) for r in conv.get("skipped") or [] if isinstance(r, dict)]
+    return failed + skipped
 
 
 def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> Path | None:
@@ -107,7 +110,8 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
             if not failed:
                 return path
             print(f"{study.name}: the record {path} has this ladder but not the run(s) "
-                  f"{', '.join(failed)} (failed when recorded): it does not count")  # fmt: skip
+                  f"{', '.join(failed)} (failed or skipped when recorded): it does not "
+                  "count")  # fmt: skip
     return None
 
 

@@ -426,9 +426,18 @@ def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
             "runs": runs}  # fmt: skip
     path = record(tmp_path / "study", conv, tmp_path / "records")
     assert recorded(gb, ladder, tmp_path / "records") is None
-    assert "not the run(s) L1P1 (failed when recorded)" in capsys.readouterr().out
+    assert "not the run(s) L1P1 (failed or skipped when recorded)" in capsys.readouterr().out
     write_json(path, {**read_json(path), "runs": [runs[0], {"label": "L1P1"}, runs[2]]})
     assert recorded(gb, ladder, tmp_path / "records") == path
+    # an extra run skipped for memory (--min-free-gb) is missing as a failed one is
+    extra = {**ladder, "runs": [*ladder["runs"], "L1P1F2"]}
+    skipped = [{"label": "L1P1F2", "level": 1, "degree": 1, "flank_level": 2,
+                "why": "MemAvailable 9.0 GB < 16 GB asked for"}]  # fmt: skip
+    write_json(path, {**read_json(path), "ladder": extra, "skipped": skipped})
+    assert recorded(gb, extra, tmp_path / "records") is None
+    assert "not the run(s) L1P1F2 (failed or skipped" in capsys.readouterr().out
+    write_json(path, {**read_json(path), "skipped": []})
+    assert recorded(gb, extra, tmp_path / "records") == path
 
 
 def test_record_refuses_a_study_with_a_failed_run(tmp_path, monkeypatch, capsys):
