@@ -139,14 +139,20 @@ def test_report_prints_the_recovered_reading_beside_the_nodal_one():
          "bending_stress_iso6336_nominal": {k: v["sigma_F0"] for k, v in iso.items()},
          "uncertainty": {"bending_stress_recovered.sun": 0.02}}  # fmt: skip
     text = "\n".join(root_section({"1-GA": s}, ("sun", "ring"), ["1-GA"]))
-    # the sun's recovered maximum (position 1, Z = -1.5) with its ±, and the ratios to the
-    # nodal maxima 600 (surface) and 585 (line): 594 / 600, 584 / 585
-    assert "| 1-GA | sun | 594 ± 12 | 2, pos, -1.5 | 584 | 0.99 | 1.00 |" in text
-    assert "| | ring |" not in text.split("Recovered reading")[1]  # none for the ring
+    # the sun's recovered maximum (position 1, Z = -1.5) with its ±, its ratio to ISO's
+    # sigma_F0, and the ratios to the nodal maxima 600 (surface) and 585 (line): 594 / 600,
+    # 584 / 585
+    sig = iso["sun"]["sigma_F0"]
+    row = f"| 1-GA | sun | 594 ± 12 | 2, pos, -1.5 | 584 | {sig:.0f} | {594 / sig:.2f} | 0.99 |"
+    assert row + " 1.00 |" in text
+    # the reported reading first, the nodal maxima after it as a check
+    reported, nodal = text.split("Reported: the recovered reading")[1].split("Nodal maxima")
+    assert "| | ring |" not in reported and "| | ring |" in nodal  # no recovered ring value
     # summaries without the recovered reading print no such table
     old = {"level": 1, "degree": 1, **cycle_bending(recs[:1])}
     old["bending_stress_recovered"] = {"sun": None, "ring": None}
-    assert "Recovered reading" not in "\n".join(root_section({"x": old}, ("sun",), ["x"]))
+    plain = "\n".join(root_section({"x": old}, ("sun",), ["x"]))
+    assert "recovered reading" not in plain and "Nodal maxima" not in plain
 
 
 def test_recovered_values_are_reduced_to_gear_set_keys():

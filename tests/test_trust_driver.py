@@ -260,6 +260,22 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     said = ("L1P1F2R2 (level 1 with level 2's flanks and contact grid, and level 2's refined "
             "fillets)")  # fmt: skip
     assert said in capsys.readouterr().out
+    from postprocess.paper_report import write_paper_report
+
+    def row() -> str:
+        text = write_paper_report(tmp_path / "out").read_text()
+        return next(ln for ln in text.splitlines() if ln.startswith("| 1-GA |"))
+
+    # the one-page report: the run's sizes; its root stress the nodal maximum (marked n)
+    # where the summary has no recovered reading, else the recovered one with its own ±
+    assert "| 1 (level-2 flanks and fillets) | 1 |" in row()
+    summary = json.loads(out.read_text())
+    nodal = max(v for k, v in summary["bending_stress"].items() if k != "locations")
+    assert f"| {nodal:.0f} ± " in row() and " n | [contact]" in row()
+    summary["bending_stress_recovered"] = {"sun": 480.0, "ring": None}
+    summary["uncertainty"]["bending_stress_recovered.sun"] = 0.05
+    out.write_text(json.dumps(summary))
+    assert "| 480 ± 24 | [contact]" in row()
 
 
 def test_unknown_contact_model_refused(stub, tmp_path, capsys):
