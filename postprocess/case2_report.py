@@ -48,7 +48,12 @@ from postprocess.convergence import convergence_links, uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import OFFSET_NOTE, plus_minus
 from postprocess.run_scalars import level_text
-from postprocess.stress_tables import contact_definition, contact_section, root_section
+from postprocess.stress_tables import (
+    contact_definition,
+    contact_section,
+    reported_root_stress,
+    root_section,
+)
 
 #: the four LOA moments (issue-12 names), with the mesh and the pinion each belongs to
 LOA = (
@@ -388,7 +393,7 @@ def _stress_section(runs: dict) -> list[str]:
     names = _ordered(runs)
     if len(names) >= 2:
         a, b = runs[names[0]], runs[names[-1]]
-        ra, rb = a["bending_stress"] or {}, b["bending_stress"] or {}
+        ra, rb = reported_root_stress(a)[1], reported_root_stress(b)[1]
         root = [rb[k] / ra[k] - 1 for k in ROOTS if ra.get(k) and rb.get(k)]
         cont = [
             b["contact_stress_cycle"][m]["interior_p_max_MPa"]

@@ -26,7 +26,8 @@ from pathlib import Path
 from gears.analytic import printed
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
-from postprocess.run_scalars import level_text
+from postprocess.run_scalars import level_text, row_label
+from postprocess.stress_tables import reported_root_stress
 
 #: the goal of issue 12 for the whole ``make`` on 2 cores at the default level
 GOAL_WALL_S = 20 * 60.0
@@ -47,7 +48,9 @@ def record_wall_time(results: Path, started: Path) -> dict | None:
         return None
     t0 = float(started.read_text().split()[0])
     t1 = time.time()
-    levels = sorted({s["level"] for _, s in _summaries(results)})
+    summaries = [s for _, s in _summaries(results)]
+    levels = sorted({s["level"] for s in summaries})
+    runs = sorted({row_label(s) for s in summaries if "degree" in s})  # with their sizes
     rec = {
         "what": "wall time of the whole `make` (target all): setup, analytic study, meshes, "
         "case 1, case 2 and this report",
@@ -57,6 +60,7 @@ def record_wall_time(results: Path, started: Path) -> dict | None:
         "goal_s": GOAL_WALL_S,
         "within_goal": t1 - t0 <= GOAL_WALL_S,
         "levels": levels,
+        "runs": runs,
         "machine": {
             "cpus": os.cpu_count(),
             "load_average_1_5_15": list(os.getloadavg()),
@@ -238,9 +242,7 @@ def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
     cyc = s.get("contact_stress_cycle") or {}
     contact = _max(c.get("interior_p_max_MPa") for c in cyc.values())
     # the recovered root stress where the summary has it (the convergence studies' target)
-    recovered = s.get("bending_stress_recovered") or {}
-    r_name = "bending_stress_recovered" if any(recovered.values()) else "bending_stress"
-    r_vals = {k: v for k, v in (s.get(r_name) or {}).items() if k != "locations" and v}
+    r_name, r_vals = reported_root_stress(s)
     root = _max(r_vals.values())
     # the keys of the two maxima, for their uncertainty
     c_key = next((f"contact_stress_cycle.{m}.interior_p_max_MPa" for m, c in cyc.items()

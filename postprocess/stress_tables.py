@@ -42,6 +42,17 @@ def _label(key: str) -> str:
     return key
 
 
+def reported_root_stress(s: dict) -> tuple[str, dict]:
+    """The summary key and the values ({gear key: MPa}) of the root stress a report quotes:
+    the recovered reading (``bending_stress_recovered``, what the convergence studies
+    target) where the summary holds one, else the nodal maxima (``bending_stress``)."""
+    rec = s.get("bending_stress_recovered") or {}
+    name = "bending_stress_recovered" if any(v is not None for v in rec.values()) else (
+        "bending_stress")  # fmt: skip
+    vals = {k: v for k, v in (s.get(name) or {}).items() if k != "locations" and v is not None}
+    return name, vals
+
+
 def root_section(runs: dict[str, dict], keys, order) -> list[str]:
     """Markdown lines: the FE root stress against ISO 6336-3 for the cases ``order`` of
     ``runs`` (name -> summary) and the gear keys ``keys``."""
