@@ -133,7 +133,9 @@ def _wall_section(results: Path) -> list[str]:
     return [
         f"Wall time of the last full `make` ({rec['started']} -> {rec['finished']}): "
         f"**{mins:.1f} min**, {verdict}, on {rec['machine']['cpus']} cores at mesh level(s) "
-        f"{', '.join(str(v) for v in rec['levels'])}; load average at the end "
+        f"{', '.join(str(v) for v in rec['levels'])}"
+        + (f" (runs {', '.join(rec['runs'])})" if rec.get("runs") else "")
+        + "; load average at the end "
         f"{load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} (1 / 5 / 15 min; other jobs on the "
         "machine count in it). Recorded in `bench/make_all.json`.",
         "",
