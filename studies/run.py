@@ -217,7 +217,13 @@ def run_study(
             study, numerics=dataclasses.replace(study.numerics, out_of_core=bool(out_of_core))
         )
     store = BodyStore() if store is None else store
+    given = level is not None
     level, variant, n_pos = _checked_settings(study, level, positions)
+    # the summary's inputs (and their hash) say which sizes run: a level given, its own ones
+    # (the number of positions stays the case's: a position is keyed by its roll)
+    if given:
+        model = dataclasses.replace(study.model, level=level, flank_level=None, fillet_level=None)
+        study = dataclasses.replace(study, model=model)
     out = _output_folder(study, out_root)
     try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
         scene = study_scene(study, 0.0)

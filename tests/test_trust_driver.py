@@ -251,6 +251,9 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     assert not call["study"].numerics.out_of_core  # the case file's
     summary = json.loads(out.read_text())
     assert summary["run"] == "L0P1" and "flank_level" not in summary
+    # its inputs say what ran: level 0's own sizes, not the case file's level 1 and variant
+    assert summary["inputs"]["study_case"]["model"] == {"scene": "one_branch", "level": 0,
+                                                        "positions": 5}  # fmt: skip
     assert summary["uncertainty_source"]["run"] == "L0P1"
     assert len(stub.calls) == 2
     assert cli(tmp_path, "1-GA", "--positions", 1) == 0  # other sizes than position 0's
