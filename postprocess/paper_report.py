@@ -350,18 +350,31 @@ def _trends_section(runs: list[tuple[Path, dict]]) -> list[str]:
     return [*lines, ""]
 
 
-def _convergence_lines(results: Path) -> list[str]:
-    """One line per convergence study (``convergence/<case>/convergence.json``): its
-    recommendation and a link to its report and chart."""
+def _convergence_lines(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
+    """One line per convergence study: first those the summaries ``runs`` take their ± from
+    (``uncertainty_source.convergence_study``: a record in the repository, or a study of
+    this machine), then the others under ``results/convergence``, each with its
+    recommendation and a link to its report and chart. The summaries' studies come first so
+    a study left in the results by an earlier make does not speak for them."""
+    used: dict[Path, list[str]] = {}
+    for _, s in runs:
+        src = (s.get("uncertainty_source") or {}).get("convergence_study")
+        if src and s.get("uncertainty"):
+            used.setdefault(Path(src).resolve(), []).append(s["case"])
+    local = [p.resolve() for p in sorted((results / "convergence").glob("*/convergence.json"))]
     lines = []
-    for path in sorted((results / "convergence").glob("*/convergence.json")):
+    for path in [*used, *(p for p in local if p not in used)]:
         c = _json(path)
         if not c or "recommendation" not in c:
             continue
-        runs = ", ".join(c.get("labels", [])) or "none finished"
+        labels = ", ".join(c.get("labels", [])) or "none finished"
+        kind = " (recorded)" if c.get("recorded") else ""
+        whose = (f"the ± of {', '.join(used[path])}" if path in used else
+                 "no summary here takes its ± from it")  # fmt: skip
         lines += [
-            f"Convergence, {_link(path.parent / 'report.md', results, c['case'])} (runs "
-            f"{runs}; {c.get('positions', '?')} position): {c['recommendation']['note']}.",
+            f"Convergence{kind}, {_link(path.parent / 'report.md', results, c['case'])} (runs "
+            f"{labels}; {c.get('positions', '?')} position; {whose}): "
+            f"{c['recommendation']['note']}.",
             "",
         ]
         png = path.parent / "speed_error.png"
@@ -370,10 +383,10 @@ def _convergence_lines(results: Path) -> list[str]:
     return lines
 
 
-def _bench_section(results: Path) -> list[str]:
+def _bench_section(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
     bench = results / "bench"
     lines = ["## Speed against error", ""]
-    lines += _convergence_lines(results)
+    lines += _convergence_lines(results, runs)
     rows_found = (results / "convergence").is_dir()
     study = _json(bench / "study.json")
     if study:
@@ -413,7 +426,7 @@ def write_paper_report(results: Path) -> Path:
     lines += _trends_section(runs)
     lines += _reports_section(results)
     lines += _cases_section(results, runs)
-    lines += _bench_section(results)
+    lines += _bench_section(results, runs)
     path = results / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path

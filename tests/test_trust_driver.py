@@ -279,6 +279,16 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     summary["uncertainty"]["bending_stress_recovered.sun"] = 0.05
     out.write_text(json.dumps(summary))
     assert "| 480 ± 24 | [contact]" in row()
+    # speed against error: the study the summary's ± come from (the record) first, a study
+    # left in the results by an earlier make after it, said to be no summary's
+    stale = tmp_path / "out" / "convergence" / "1-GB" / "convergence.json"
+    stale.parent.mkdir(parents=True)
+    stale.write_text(json.dumps({"case": "1-GB", "labels": ["L0P1", "L1P1"], "positions": 1,
+                                 "recommendation": {"note": "stale verdict"}}))  # fmt: skip
+    text = write_paper_report(tmp_path / "out").read_text().split("## Speed against error")[1]
+    record, local = text.split("stale verdict")[0].split("Convergence, [1-GB]")
+    assert "Convergence (recorded), [1-GB]" in record and "; the ± of 1-GA" in record
+    assert "no summary here takes its ± from it" in local
 
 
 def test_unknown_contact_model_refused(stub, tmp_path, capsys):
