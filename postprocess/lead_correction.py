@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from gears.microgeometry import NONE
+from postprocess.run_scalars import level_text
 
 UM = 1e-3  # mm per um
 #: the quantities reported before and after (summary keys, mean over the positions)
@@ -136,7 +137,7 @@ def report(data: dict) -> str:
         "",
         f"Gear set {inp['gearset']}, pinion bearing {inp['bearing_radial_N_per_mm']:.3g} N/mm, "
         f"{inp['bearing_tilting_Nmm_per_rad']:.3g} N mm/rad, sun torque "
-        f"{inp['input_torque_Nm']:g} N m; scene {inp['scene']}, level {inp['level']}, "
+        f"{inp['input_torque_Nm']:g} N m; scene {inp['scene']}, level {level_text(inp)}, "
         f"{inp['positions']} mesh positions over one base pitch (ZS, ZR: means over them).",
         "",
         "The lead slopes (helix angle modifications, um across the face width, "

@@ -29,6 +29,7 @@ from mpi4py import MPI
 from cases.study_case import load_study_case
 from meshing import sizing
 from postprocess import lead_correction as lc
+from postprocess.run_scalars import run_label
 from postprocess.summary import summarise
 from solvers.body_store import BodyStore
 from studies.case_variants import global_root_stress
@@ -37,16 +38,20 @@ from studies.files import atomic_write_text, write_json
 from studies.position import roll_angles, solve_position
 
 
-def evaluate(study, slopes: dict, crowns: dict | None, rolls, comm, level, store) -> dict:
-    """The summary of ``study`` with the lead slopes (and crowns) given, um by gear name."""
+def evaluate(study, slopes: dict, crowns: dict | None, rolls, comm, level, store,
+             variant: dict | None = None) -> dict:  # fmt: skip
+    """The summary of ``study`` with the lead slopes (and crowns) given, um by gear name, at
+    ``level`` with the sizes ``variant`` takes from other levels (``flank_level``,
+    ``fillet_level``)."""
     gs = lc.corrected_gearset(study.gearset, slopes, crowns)
     trial = dataclasses.replace(study, gearset=gs)
-    solved = [solve_position(trial, r, comm, level=level, store=store) for r in rolls]
-    return summarise(trial, solved, [], {"level": level})
+    variant = variant or {}
+    solved = [solve_position(trial, r, comm, level=level, store=store, **variant) for r in rolls]
+    return summarise(trial, solved, [], {"level": level, **variant})
 
 
 def correct(study, *, level, positions, tol, fd_step, max_step, max_solves, crowns, comm,
-            say=print):  # fmt: skip
+            say=print, variant: dict | None = None):  # fmt: skip
     """Newton / Broyden on (ZS, ZR) over the slopes of (pinion, sun) (module docstring of
     :mod:`postprocess.lead_correction`); the data the report is written from."""
     gs = study.gearset
@@ -64,7 +69,7 @@ def correct(study, *, level, positions, tol, fd_step, max_step, max_solves, crow
     def run(u, kind, case=search):
         slopes = dict(zip(names, (float(x) for x in u), strict=True))
         t0 = time.perf_counter()
-        s = evaluate(case, slopes, crowns, rolls, comm, level, store)
+        s = evaluate(case, slopes, crowns, rolls, comm, level, store, variant)
         history.append({"slopes_um": slopes, "kind": kind, "ZS": s["ZS"], "ZR": s["ZR"],
                         "My_pin": s["My_pin"], "wall_s": time.perf_counter() - t0})  # fmt: skip
         say(
@@ -104,6 +109,7 @@ def correct(study, *, level, positions, tol, fd_step, max_step, max_solves, crow
             "gearset_path": _shown_path(gs.path) or f"cases/gearsets/{gs.name}.toml",
             "scene": study.model.scene,
             "level": level,
+            **(variant or {}),
             "positions": positions,
             "tol_mm": tol,
             "fd_step_um": fd_step,
@@ -171,6 +177,8 @@ def main(argv=None) -> int:
 
     def body():
         study = load_study_case(args.case)
+        # the case's sizes with its level; a level given is that level's own
+        variant = study.model.variant if args.level is None else {}
         level = study.model.level if args.level is None else args.level
         try:
             sizing.check_level(level)
@@ -182,11 +190,12 @@ def main(argv=None) -> int:
         crowns = None
         if args.pinion_crown is not None:
             crowns = {study.gearset.power_path[1]: args.pinion_crown}
-        say(f"{study.name}: lead correction at level {level}, {positions} positions")
+        label = run_label(level, study.numerics.degree, **variant)
+        say(f"{study.name}: lead correction at {label}, {positions} positions")
         data = correct(study, level=level, positions=positions, tol=args.tol,
                        fd_step=args.fd_step, max_step=args.max_step,
                        max_solves=args.max_solves, crowns=crowns, comm=comm,
-                       say=say)  # fmt: skip
+                       say=say, variant=variant)  # fmt: skip
         if comm.rank == 0:
             out = args.out / study.name
             out.mkdir(parents=True, exist_ok=True)

@@ -72,7 +72,7 @@ def _fake_evaluate(jac_true, r0, curvature=0.0):
     """A stand-in for the FE: ZS, ZR of the slopes (um), mildly nonlinear, and the calls."""
     calls = []
 
-    def evaluate(study, slopes, crowns, rolls, comm, level, store):
+    def evaluate(study, slopes, crowns, rolls, comm, level, store, variant=None):
         u = np.array([slopes["pinion"], slopes["sun"]])
         zs, zr = r0 + jac_true @ u + curvature * np.array([u[0] ** 2, u[1] * u[0]])
         calls.append((u, study.numerics.root_stress))
@@ -155,3 +155,19 @@ def test_fe_lead_correction_recentres_1gb_at_level_0():
     # the line of action (measured 1.5 % at two positions)
     ref = after["closed_form_mid_face"]["My_pin"]
     assert after["My_pin"] == pytest.approx(ref, rel=0.05)
+
+
+def test_the_lead_correction_runs_the_case_sizes_unless_a_level_is_given(monkeypatch, tmp_path):
+    """Without --level the search solves at the case file's sizes (1-GB: level 1 with level
+    2's flanks, contact grid and refined fillets, as its summary); --level L is level L's
+    own."""
+    seen = []
+
+    def stop(study, **kw):
+        seen.append((kw["level"], kw["variant"]))
+        raise RuntimeError("stop here")
+
+    monkeypatch.setattr(study_lc, "correct", stop)
+    for argv in ([], ["--level", "0"]):
+        study_lc.main(["--case", "1-GB", "--out", str(tmp_path), *argv])
+    assert seen == [(1, {"flank_level": 2, "fillet_level": 2}), (0, {})]
