@@ -45,12 +45,18 @@ def _label(key: str) -> str:
 def reported_root_stress(s: dict) -> tuple[str, dict]:
     """The summary key and the values ({gear key: MPa}) of the root stress a report quotes:
     the recovered reading (``bending_stress_recovered``, what the convergence studies
-    target) where the summary holds one, else the nodal maxima (``bending_stress``)."""
-    rec = s.get("bending_stress_recovered") or {}
-    name = "bending_stress_recovered" if any(v is not None for v in rec.values()) else (
-        "bending_stress")  # fmt: skip
-    vals = {k: v for k, v in (s.get(name) or {}).items() if k != "locations" and v is not None}
-    return name, vals
+    target) where the summary holds it for every gear with a nodal maximum, else the nodal
+    maxima (``bending_stress``) of all of them: one reading per summary, and no gear left
+    out of a maximum over the gears because its recovery is missing."""
+
+    def values(name: str) -> dict:
+        got = s.get(name) or {}
+        return {k: v for k, v in got.items() if k != "locations" and v is not None}
+
+    nodal, rec = values("bending_stress"), values("bending_stress_recovered")
+    if rec and set(nodal) <= set(rec):
+        return "bending_stress_recovered", rec
+    return "bending_stress", nodal
 
 
 def root_section(runs: dict[str, dict], keys, order) -> list[str]:

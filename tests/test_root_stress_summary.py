@@ -201,3 +201,17 @@ def test_correction_note_reports_the_clipped_body_correction():
     text = " ".join(correction_note(runs))
     assert "eigenvalue: 1-GA 0.06 (0: nothing" in text
     assert correction_note({"x": {}}) == []
+
+
+def test_the_quoted_root_stress_is_one_reading_for_every_gear():
+    """Reports quote the recovered reading where it covers every gear with a nodal maximum;
+    a gear whose recovery is missing makes the whole summary quote the nodal maxima, so the
+    maximum over the gears never drops a gear (the ring's 800 MPa here) unseen."""
+    from postprocess.stress_tables import reported_root_stress
+
+    s = {"bending_stress": {"sun": 600.0, "ring": 800.0, "locations": {}},
+         "bending_stress_recovered": {"sun": 590.0, "ring": 780.0}}  # fmt: skip
+    assert reported_root_stress(s) == ("bending_stress_recovered", {"sun": 590.0, "ring": 780.0})
+    s["bending_stress_recovered"]["ring"] = None
+    assert reported_root_stress(s) == ("bending_stress", {"sun": 600.0, "ring": 800.0})
+    assert reported_root_stress({"bending_stress": None}) == ("bending_stress", {})

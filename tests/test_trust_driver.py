@@ -275,7 +275,12 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     summary = json.loads(out.read_text())
     nodal = max(v for k, v in summary["bending_stress"].items() if k != "locations")
     assert f"| {nodal:.0f} ± " in row() and " n | [contact]" in row()
-    summary["bending_stress_recovered"] = {"sun": 480.0, "ring": None}
+    # recovered for every gear with a nodal maximum (else the nodal maxima are quoted)
+    summary["bending_stress_recovered"] = {
+        k: 480.0 if k == "sun" else 0.9 * v
+        for k, v in summary["bending_stress"].items() if k != "locations"
+    }  # fmt: skip
+    assert max(summary["bending_stress_recovered"].values()) == 480.0  # the sun's is the max
     summary["uncertainty"]["bending_stress_recovered.sun"] = 0.05
     out.write_text(json.dumps(summary))
     assert "| 480 ± 24 | [contact]" in row()
