@@ -458,6 +458,16 @@ def study_inputs(study: StudyCase) -> dict[str, Any]:
     }
 
 
+def case_sizes(study: StudyCase, level: int | None = None) -> tuple[int, dict[str, int]]:
+    """The level a run of ``study`` takes and the sizes it takes from other levels: the
+    case's (``model.level`` with ``model.flank_level`` / ``fillet_level``) unless ``level``
+    is given, which is that level's own sizes (the one place that decides it: the driver,
+    :func:`studies.position.solve_position`, the lead correction, the phasing study)."""
+    if level is None:
+        return study.model.level, study.model.variant
+    return level, {}
+
+
 def without_variant(study: StudyCase) -> StudyCase:
     """``study`` with its level's own sizes (``model.flank_level`` / ``fillet_level`` None):
     the inputs of a run that sets its sizes itself (a convergence run, a size diagnostic), so

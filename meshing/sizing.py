@@ -149,6 +149,17 @@ def with_sizes(
     return check_level(lv)
 
 
+def run_sizes(
+    level: int, flank_level: int | None = None, fillet_level: int | None = None
+) -> int | Level:
+    """``level`` itself when a run keeps the level's own sizes (an index: how the mesh
+    cache, the records and the summaries name it), else :func:`with_sizes`."""
+    if flank_level is None and fillet_level is None:
+        check_level(level)
+        return level
+    return with_sizes(level, flank_level, fillet_level)
+
+
 def level_record(level) -> int | dict:
     """A level as JSON: its index, or the sizes of a :class:`Level` (checked)."""
     lv = check_level(level)

@@ -17,7 +17,7 @@ from matplotlib.ticker import FormatStrFormatter, FuncFormatter, NullFormatter, 
 
 from postprocess.convergence import NEAR_ZERO, SAFETY_TWO_GRID, reproduction_text
 from postprocess.convergence_study import CG_NOISE, P_CAP
-from postprocess.run_scalars import row_label, variant
+from postprocess.run_scalars import VARIANT_WORDS, row_label, sizes_in_words, variant
 
 CHART = "speed_error.png"
 
@@ -51,10 +51,6 @@ def _memory(conv: dict, label: str, mb: float) -> str:
     return f"{mb / 1024:.1f}" + (" (factors on disk)" if label in _out_of_core(conv) else "")
 
 
-#: what a run's sizes of another level are, in words (:func:`meshing.sizing.with_sizes`)
-VARIANT_WORDS = {"flank_level": "flanks and contact grid", "fillet_level": "refined fillets"}
-
-
 def _level(r: dict) -> str:
     """A run's level, and which of its sizes are another level's."""
     other = "; ".join(f"{VARIANT_WORDS[k]} of {v}" for k, v in variant(r).items())
@@ -62,8 +58,7 @@ def _level(r: dict) -> str:
 
 
 def _in_words(r: dict) -> str:
-    other = " and ".join(f"level {v}'s {VARIANT_WORDS[k]}" for k, v in variant(r).items())
-    return f"level {r['level']}" + (f" with {other}" if other else "") + f", degree {r['degree']}"
+    return f"{sizes_in_words(r['level'], variant(r))}, degree {r['degree']}"
 
 
 def _runs_table(conv: dict) -> list[str]:

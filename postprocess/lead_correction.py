@@ -35,6 +35,10 @@ import numpy as np
 
 from gears.microgeometry import NONE
 from postprocess.run_scalars import level_text
+from postprocess.stress_tables import reported_root_stress
+
+#: the root stress reading a row quotes, in words (:func:`reported_root_stress`'s key)
+ROOT_READING = {"bending_stress_recovered": "surface, recovered", "bending_stress": "nodal"}
 
 UM = 1e-3  # mm per um
 #: the quantities reported before and after (summary keys, mean over the positions)
@@ -85,8 +89,10 @@ def converged(r: np.ndarray, tol: float) -> bool:
 def state_row(summary: dict) -> dict:
     """What the report compares before and after, from a study summary: the paper's
     moments and centroids, the contact stress over the mesh cycle (interior maximum, edge
-    maximum, K_Hbeta, ISO sigma_H0 sqrt(K_Hbeta)) and the FE root stress (mean over the
-    positions of each position's maximum)."""
+    maximum, K_Hbeta, ISO sigma_H0 sqrt(K_Hbeta)) and the FE root stress the reports quote
+    (maximum over the cycle; :func:`postprocess.stress_tables.reported_root_stress`: the
+    recovered surface reading where it covers every gear, else the nodal maxima)."""
+    root_key, root = reported_root_stress(summary)
     cyc = summary["contact_stress_cycle"]
     return {
         **{k: float(summary[k]) for k in MOMENT_KEYS},
@@ -99,7 +105,8 @@ def state_row(summary: dict) -> dict:
             }
             for m, v in cyc.items()
         },
-        "root_MPa": dict(summary.get("bending_stress") or {}),
+        "root_MPa": root,
+        "root_reading": ROOT_READING[root_key],
         "coast_min_gap_mm": (summary.get("coast") or {}).get("min_gap_mm"),
         # singh2007's closed form with both mesh loads at mid face (ZS = ZR = 0)
         "closed_form_mid_face": dict((summary.get("analytic") or {}).get("concentrated") or {}),
@@ -198,11 +205,10 @@ def report(data: dict) -> str:
             f"| ISO sigma_H0 sqrt(K_Hbeta) {m} (MPa) | {_f(b['sigma_H_iso_MPa'], '.0f')} | "
             f"{_f(a['sigma_H_iso_MPa'], '.0f')} | |",
         ]
+    read = {before.get("root_reading"), after.get("root_reading")} - {None}
     for g in before["root_MPa"]:
-        if g == "locations":
-            continue
         lines.append(
-            f"| FE root stress {g} (MPa, maximum over the cycle) | "
+            f"| FE root stress {g} (MPa, {' / '.join(sorted(read))}, maximum over the cycle) | "
             f"{_f(before['root_MPa'].get(g), '.0f')} | {_f(after['root_MPa'].get(g), '.0f')} | |"
         )
     lines.append(

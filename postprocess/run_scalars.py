@@ -122,6 +122,17 @@ def variant(row: Mapping) -> dict[str, int]:
     return {k: row[k] for k in VARIANT_KEYS if row.get(k) is not None}
 
 
+#: what a run's sizes of another level are, in words (:func:`meshing.sizing.with_sizes`)
+VARIANT_WORDS = {"flank_level": "flanks and contact grid", "fillet_level": "refined fillets"}
+
+
+def sizes_in_words(level: int, variant: Mapping) -> str:
+    """``level 1 with level 2's flanks and contact grid and level 2's refined fillets``, or
+    ``level 1`` for a level's own sizes (``variant``: :func:`variant` of a row)."""
+    other = " and ".join(f"level {v}'s {VARIANT_WORDS[k]}" for k, v in variant.items())
+    return f"level {level}" + (f" with {other}" if other else "")
+
+
 def level_text(row: Mapping) -> str:
     """A report's level cell of a run row or summary: ``1``, or ``1 (level-2 flanks and
     fillets)`` for one whose active flanks and contact grid (``flank_level``) and refined root

@@ -71,7 +71,7 @@ from studies.files import ResultFileError, read_json, write_json
 from studies.memory import mem_available_gb
 from studies.position_runs import print_row, run_child, solve_run
 from studies.provenance import code_hash, git_revision, utc_stamp
-from studies.uncertainty import RECORDS, STUDY_FILE, failed_runs, match_key, recorded
+from studies.uncertainty import RECORDS, STUDY_FILE, match_key, missing_runs, recorded
 
 LADDER_DEGREE = 1
 POSITIONS_NOTE = {
@@ -540,7 +540,7 @@ def study(args) -> Path | None:
     report = write_report(conv, folder)
     print(f"{conv['recommendation']['note']}\nwrote {folder / STUDY_FILE} and {report}")
     if args.record:
-        failed = failed_runs(conv)
+        failed = missing_runs(conv)
         if failed:
             raise InputError(
                 f"--record: run(s) {', '.join(failed)} failed or skipped ({report}); a record "

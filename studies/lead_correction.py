@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from cases.study_case import load_study_case
+from cases.study_case import case_sizes, load_study_case
 from meshing import sizing
 from postprocess import lead_correction as lc
 from postprocess.run_scalars import run_label
@@ -178,8 +178,7 @@ def main(argv=None) -> int:
     def body():
         study = load_study_case(args.case)
         # the case's sizes with its level; a level given is that level's own
-        variant = study.model.variant if args.level is None else {}
-        level = study.model.level if args.level is None else args.level
+        level, variant = case_sizes(study, args.level)
         try:
             sizing.check_level(level)
         except ValueError as exc:

@@ -28,7 +28,7 @@ import numpy as np
 from mpi4py import MPI
 
 from cases.gearset import CaseError
-from cases.study_case import load_study_case
+from cases.study_case import case_sizes, load_study_case
 from gears.analytic import phasing
 from postprocess import phasing_fe as pf
 from solvers.body_store import BodyStore
@@ -67,7 +67,7 @@ def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, lis
             math.degrees(a) for a in phasing.assemblable_angles(sun.teeth, ring.teeth, gs.planets)
         ]
     m = args.positions or study.model.positions
-    level = study.model.level if args.level is None else args.level
+    level, variant = case_sizes(study, args.level)
     pitch = 2 * math.pi / sun.teeth
     records = []
     say(
@@ -77,7 +77,7 @@ def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, lis
     for k in range(m):
         t0 = time.perf_counter()
         pos = solve_position(
-            study, k * pitch / m, comm, level=level, scene_options=opts, store=store
+            study, k * pitch / m, comm, level=level, scene_options=opts, store=store, **variant
         )
         rec = pf.position_record(pos, gs)
         records.append(rec)
@@ -92,6 +92,7 @@ def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, lis
         "zs": sun.teeth,
         "positions": m,
         "level": level,
+        **variant,
         "dofs": records[0]["dofs"],
         "wall_s": float(np.median([r["wall_s"] for r in records])),
         "planet_angles_given_deg": list(angles) if angles else None,

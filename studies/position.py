@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from cases.gearset import CaseError
+from cases.study_case import case_sizes
 from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
 from meshing.scenes import build_scene, cycle_angles, refines_root_fillets
@@ -115,7 +116,8 @@ def solve_position(
     fillet_level: int | None = None,
 ) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
     """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
-    (``model.level``, ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
+    (its sizes, :func:`cases.study_case.case_sizes`: a level given is that level's own;
+    ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
     where ``write_fields(folder)`` writes every body's displacement as VTX
     (``<folder>/<body>.bp``, collective), so the caller can save the result first and the
     fields after it; ``progress``: called with the name of each stage as it starts
@@ -137,13 +139,15 @@ def solve_position(
     store = BodyStore() if store is None else store
     store.begin_position()
     num = study.numerics
-    level = study.model.level if level is None else level
+    level, case = case_sizes(study, level)  # no level given: the case's sizes
     degree = num.degree if degree is None else degree
     if spacing is None:
         spacing = num.grid_spacing
+    flank_level = case.get("flank_level") if flank_level is None else flank_level
+    fillet_level = case.get("fillet_level") if fillet_level is None else fillet_level
+    sizes = sizing.run_sizes(level, flank_level, fillet_level)
     other = {"flank_level": flank_level, "fillet_level": fillet_level}
-    other = {k: v for k, v in other.items() if v is not None}
-    sizes = sizing.with_sizes(level, **other) if other else level
+    other = {k: v for k, v in other.items() if v is not None}  # the result names them
     if spacing is None:  # default: the flank element size of the level
         spacing = sizing.check_level(sizes).fine
     penalty = num.penalty_factor if penalty_factor is None else penalty_factor

@@ -55,6 +55,7 @@ from cases.study_case import (
     ROOT_FILLETS,
     SCENES,
     StudyCase,
+    case_sizes,
     inputs_hash,
     load_study_case,
     study_inputs,
@@ -65,7 +66,7 @@ from postprocess.contact_pattern import draw_contact_patterns
 from postprocess.flank_pictures import draw_flank_patterns
 from postprocess.loaded_scene import loaded_scene_picture
 from postprocess.paper_moments import MEAN_KEYS
-from postprocess.run_scalars import run_label
+from postprocess.run_scalars import run_label, sizes_in_words
 from postprocess.summary import summarise
 from solvers.body_store import BodyStore
 from studies.cli import (
@@ -129,8 +130,7 @@ def _checked_settings(study: StudyCase, level, positions) -> tuple[int, dict, in
     (the case file's unless given; a level given is that level's own sizes: the case's
     ``model.flank_level`` / ``fillet_level`` go with the case's level), checked:
     :class:`~studies.cli.InputError` names the option and what is allowed."""
-    variant = study.model.variant if level is None else {}
-    level = study.model.level if level is None else level
+    level, variant = case_sizes(study, level)
     n_pos = study.model.positions if positions is None else positions
     try:
         sizing.check_level(level)
@@ -354,7 +354,7 @@ def _run(study, out_root: Path, out: Path, sizes, n_pos: int, comm, progress, ra
     on_root(
         comm, lambda: write_json(out / "summary.json", summary), f"writing {out / 'summary.json'}"
     )
-    mesh_sizes = sizing.with_sizes(level, **variant) if variant else level
+    mesh_sizes = sizing.run_sizes(level, **variant)
     _pictures(study, solved, out, mesh_sizes, comm, progress)
     if failed:
         raise StudyFailed(
@@ -421,13 +421,9 @@ def _write_fields(write_fields, fields: Path, study, comm, ranks: Ranks, progres
 
 
 def _sizes_text(label: str, level: int, variant: dict) -> str:
-    """``L1P1F2R2 (level 1 with level 2's flanks and contact grid, and level 2's refined
+    """``L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined
     fillets)``; ``L1P1`` for a level's own sizes."""
-    if not variant:
-        return label
-    words = {"flank_level": "flanks and contact grid", "fillet_level": "refined fillets"}
-    parts = [f"level {v}'s {words[k]}" for k, v in variant.items()]
-    return f"{label} (level {level} with {', and '.join(parts)})"
+    return f"{label} ({sizes_in_words(level, variant)})" if variant else label
 
 
 def _headline(study: StudyCase, pos: dict) -> str:

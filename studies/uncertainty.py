@@ -85,7 +85,7 @@ def _studies(folder: Path, name: str, key: dict, unreadable: list[str] | None = 
             yield path, reduce_study(conv)
 
 
-def failed_runs(conv: dict) -> list[str]:
+def missing_runs(conv: dict) -> list[str]:
     """Labels of the runs of its ladder a convergence study lacks: held as failed (an
     ``error``: out of memory, a timeout, a solver error) or skipped (``skipped``: too little
     free memory for an in-core run off the ladder, ``--min-free-gb``)."""
@@ -106,7 +106,7 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
         return None
     for path, conv in _studies(records, study.name, match_key(study)):
         if conv.get("ladder") == ladder:
-            failed = failed_runs(conv)
+            failed = missing_runs(conv)
             if not failed:
                 return path
             print(f"{study.name}: the record {path} has this ladder but not the run(s) "

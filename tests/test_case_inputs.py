@@ -18,6 +18,7 @@ from cases.study_case import (
     DEFAULTS,
     Numerics,
     available_cases,
+    case_sizes,
     inputs_hash,
     load_study_case,
     parse_study_case,
@@ -605,3 +606,7 @@ def test_flank_and_fillet_levels_of_a_case_and_the_inputs_of_a_run_setting_its_o
         wrong = mutated(plain, ["model", "fillet_level"], bad)
         with pytest.raises(CaseError, match=r"model.fillet_level = .*: must be an integer 0..3"):
             parse_study_case(wrong, "x.toml")
+    # a run's sizes: the case's with no level given, a level given is that level's own
+    assert case_sizes(gb) == (1, {"flank_level": 2, "fillet_level": 2})
+    assert case_sizes(gb, 0) == (0, {}) and case_sizes(gb, 1) == (1, {})
+    assert case_sizes(own) == (1, {})

@@ -9,7 +9,7 @@ from dataclasses import replace
 import pytest
 
 from cases.study_case import load_study_case
-from meshing.sizing import LEVELS, MeshingError, with_fillet, with_sizes
+from meshing.sizing import LEVELS, MeshingError, run_sizes, with_fillet, with_sizes
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import (
     compare_runs,
@@ -24,8 +24,8 @@ from studies.files import read_json, write_json
 from studies.uncertainty import (
     RECORDS,
     STUDY_FILE,
-    failed_runs,
     match_key,
+    missing_runs,
     recorded,
     summary_uncertainty,
 )
@@ -83,13 +83,22 @@ def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
     """L1P1F2 (level 1 with level 2's flanks and contact grid, the candidate default where
     level 1's errors come from the flanks and grid) does not enter the ladder: it is judged
     against the ladder's extrapolation like a P2 run, and can be the recommended run."""
-    from postprocess.run_scalars import row_label, run_label
+    from postprocess.run_scalars import row_label, run_label, sizes_in_words
 
     assert with_sizes(1, 2) == replace(LEVELS[1], fine=LEVELS[2].fine)
     assert with_sizes(1, 2, 2) == replace(LEVELS[1], fine=LEVELS[2].fine, fillet=LEVELS[2].fillet)
     assert with_sizes(1) == LEVELS[1]
     with pytest.raises(MeshingError, match="level = 9"):
         with_sizes(1, 9)
+    # a run of a level's own sizes is named by its index (the mesh cache and the records)
+    assert run_sizes(1) == 1 and run_sizes(1, 2, 2) == with_sizes(1, 2, 2)
+    assert run_sizes(1, None, 2) == replace(LEVELS[1], fillet=LEVELS[2].fillet)
+    with pytest.raises(MeshingError, match="level = 9"):
+        run_sizes(9)
+    assert sizes_in_words(1, {}) == "level 1"
+    assert sizes_in_words(1, {"flank_level": 2, "fillet_level": 2}) == (
+        "level 1 with level 2's flanks and contact grid and level 2's refined fillets"
+    )
     assert run_label(1, 1) == "L1P1" and run_label(1, 1, 2) == "L1P1F2"
     assert run_label(1, 1, 2, 2) == "L1P1F2R2" and run_label(1, 1, None, 2) == "L1P1R2"
     flank = _flank_row()
@@ -460,7 +469,7 @@ def test_record_refuses_a_study_with_a_failed_run(tmp_path, monkeypatch, capsys)
     assert (folder / STUDY_FILE).is_file() and not (records / case.name).exists()
     outcome = dict(ROWS[1])
     assert convergence.main(argv) == 0  # the failed run is solved again, not reused
-    assert not failed_runs(read_json(records / case.name / STUDY_FILE))
+    assert not missing_runs(read_json(records / case.name / STUDY_FILE))
 
 
 def test_a_study_without_the_run_of_the_level_does_not_stand_before_one_with_it(tmp_path):
@@ -502,7 +511,7 @@ def test_the_recorded_ladders_match_their_cases(case):
         f"{path} is of other inputs: make convergence-main RECORD=1"
     )
     assert conv["scalars"] and conv["recorded"]["git_revision"] and conv["runs_code_hash"]
-    assert not failed_runs(conv), f"{path} misses failed runs: make convergence-main RECORD=1"
+    assert not missing_runs(conv), f"{path} misses failed runs: make convergence-main RECORD=1"
 
 
 @pytest.mark.parametrize("case", ["1-GB", "2B-GA"])

@@ -79,7 +79,8 @@ def _fake_evaluate(jac_true, r0, curvature=0.0):
         row = {k: 0.0 for k in lc.MOMENT_KEYS} | {"ZS": float(zs), "ZR": float(zr)}
         cyc = {"interior_p_max_MPa": 1.0, "edge_p_max_MPa": 2.0, "K_Hbeta": 1.5,
                "sigma_H_MPa": 3.0}  # fmt: skip
-        return row | {"contact_stress_cycle": {"sun_pinion": cyc}, "bending_stress": {"sun": 1.0}}
+        root = {"bending_stress": {"sun": 500.0}, "bending_stress_recovered": {"sun": 612.0}}
+        return row | {"contact_stress_cycle": {"sun_pinion": cyc}} | root
 
     return evaluate, calls
 
@@ -113,6 +114,23 @@ def test_iteration_reaches_the_tolerance(monkeypatch, curvature):
     text = lc.report(data)
     assert "converged" in text and "[gears.pinion.modifications]" in text
     assert "[gears.sun.modifications]" in text
+    # the root stress the reports quote: the recovered surface reading, not the nodal one
+    row = "| FE root stress sun (MPa, surface, recovered, maximum over the cycle) | 612 | 612 |"
+    assert row in text
+
+
+def test_the_root_stress_row_is_the_reading_the_reports_quote():
+    cyc = {"sun_pinion": {}}
+    row = {k: 0.0 for k in lc.MOMENT_KEYS} | {"contact_stress_cycle": cyc}
+    full = row | {"bending_stress": {"sun": 500.0, "ring": 400.0},
+                  "bending_stress_recovered": {"sun": 612.0, "ring": 450.0}}  # fmt: skip
+    got = lc.state_row(full)
+    assert got["root_MPa"] == {"sun": 612.0, "ring": 450.0}
+    assert got["root_reading"] == "surface, recovered"
+    # a gear without its recovery: the nodal maxima of all, named so
+    part = full | {"bending_stress_recovered": {"sun": 612.0}}
+    got = lc.state_row(part)
+    assert got["root_MPa"] == {"sun": 500.0, "ring": 400.0} and got["root_reading"] == "nodal"
 
 
 def test_a_case_read_on_the_global_model_is_not_solved_again(monkeypatch):

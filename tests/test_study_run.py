@@ -216,3 +216,31 @@ def test_global_root_stress_on_coarse_fillets_is_refused_before_any_solve(
     assert code == 2 and calls == []
     assert "numerics.root_stress = 'global'" in err and "'submodel'" in err
     assert "Traceback" not in err
+
+
+class _Meshed(Exception):
+    """Raised by the stand-in mesh loader: the sizes solve_position asked for."""
+
+
+def test_solve_position_takes_the_case_sizes_unless_a_level_is_given(monkeypatch):
+    """No level given: the case file's sizes (1-GB: level 1 with level 2's flanks and
+    fillets, cases.study_case.case_sizes); a level given: that level's own; a flank or
+    fillet level given beside it: that one. Read where the meshes are asked for."""
+    from meshing.sizing import with_sizes
+    from studies import position
+
+    def meshes(scene, sizes, comm, memo):
+        raise _Meshed(sizes)
+
+    monkeypatch.setattr(position, "load_body_meshes", meshes)
+    gb = load_study_case("1-GB")
+
+    def asked(**kw):
+        with pytest.raises(_Meshed) as got:
+            position.solve_position(gb, 0.0, None, **kw)
+        return got.value.args[0]
+
+    assert asked() == with_sizes(1, 2, 2)
+    assert asked(level=1) == 1 and asked(level=0) == 0
+    assert asked(level=1, flank_level=2) == with_sizes(1, 2)
+    assert asked(fillet_level=0) == with_sizes(1, 2, 0)

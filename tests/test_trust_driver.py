@@ -260,7 +260,7 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     assert len(stub.calls) == 3
     assert cli(tmp_path, "1-GA", "--positions", 1) == 0  # the same: reused
     assert len(stub.calls) == 3
-    said = ("L1P1F2R2 (level 1 with level 2's flanks and contact grid, and level 2's refined "
+    said = ("L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined "
             "fillets)")  # fmt: skip
     assert said in capsys.readouterr().out
     from postprocess.paper_report import write_paper_report
