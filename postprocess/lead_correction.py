@@ -205,7 +205,8 @@ def report(data: dict) -> str:
             f"| ISO sigma_H0 sqrt(K_Hbeta) {m} (MPa) | {_f(b['sigma_H_iso_MPa'], '.0f')} | "
             f"{_f(a['sigma_H_iso_MPa'], '.0f')} | |",
         ]
-    read = {before.get("root_reading"), after.get("root_reading")} - {None}
+    # a file written before the rows named their reading holds the nodal maxima
+    read = {before.get("root_reading", "nodal"), after.get("root_reading", "nodal")}
     for g in before["root_MPa"]:
         lines.append(
             f"| FE root stress {g} (MPa, {' / '.join(sorted(read))}, maximum over the cycle) | "
