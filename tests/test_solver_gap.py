@@ -91,3 +91,33 @@ def test_points_outside_the_body_are_refused(disc_body):
     grid = ContactGrid("off", pts, pts, np.tile([1.0, 0.0], (2, 1)), np.zeros(2), np.ones(2))
     with pytest.raises(GapOperatorError, match="1 of 2 contact points are not inside"):
         gap_matrix(disc_body, [(0, grid, "a")], 2)
+
+
+def test_a_mesh_keeps_its_tree_and_the_gap_operator_is_the_same(disc_body):
+    """The cell tree is built once per mesh (the bodies keep their meshes over the mesh
+    positions) and a second gap operator on the cached tree equals the first to the bit;
+    another mesh gets its own tree, and a tree does not keep its mesh alive."""
+    import gc
+    import weakref
+
+    from solvers.gap_operator import _TREES, cell_tree
+
+    mesh = disc_body.mesh
+    grid = _grid(50, False)
+    G1, h1 = gap_matrix(disc_body, [(0, grid, "b")], grid.n)
+    trees = dict(_TREES[mesh])
+    assert len(trees) == 1
+    G2, h2 = gap_matrix(disc_body, [(0, grid, "b")], grid.n)
+    assert _TREES[mesh] == trees  # no new tree: the same object
+    ((key, tree),) = trees.items()
+    assert cell_tree(mesh, *key) is tree
+    a1, a2 = (G.convert("dense").getDenseArray().copy() for G in (G1, G2))
+    assert np.array_equal(a1, a2) and np.array_equal(h1, h2)
+    other = sm.disc(MPI.COMM_WORLD, 10.0, bore=3.0, h_min=1.0, h_max=2.0).mesh
+    tdim = other.topology.dim
+    cell_tree(other, tdim, other.topology.index_map(tdim).size_local, 0.01)
+    assert other in _TREES and len(_TREES[other]) == 1
+    gone = weakref.ref(other)
+    del other
+    gc.collect()
+    assert gone() is None
