@@ -54,6 +54,7 @@ import numpy as np
 
 from gears.analytic import phasing
 from postprocess.radial_stiffness_fe import mesh_approach
+from postprocess.run_scalars import level_text
 
 #: a harmonic has vanished below this fraction of its scale: the excitation's net amplitude
 #: against the sum of the single-mesh amplitudes; the solved net force against the single
@@ -404,7 +405,7 @@ def case_section(name: str, res: dict, inp: dict) -> list[str]:
         f"## {name}: {n} planets at {', '.join(f'{a:.3f}' for a in res['planet_angles_deg'])} deg",
         "",
         f"{inp['description']}. {inp['positions']} positions over one sun tooth pitch, level "
-        f"{inp['level']}, {inp['dofs']} DOFs, {inp['wall_s']:.0f} s per position. Mean sun-mesh"
+        f"{level_text(inp)}, {inp['dofs']} DOFs, {inp['wall_s']:.0f} s per position. Mean sun-mesh"
         f" transverse force {res['mean_mesh_force_N']:.1f} N, mean TE {res['mean_te_um']:.2f} "
         f"um; sun contact torque {res['mean_sun_torque_Nm']:.3f} N m at every position (spread "
         f"{res['sun_torque_spread_Nm']:.1e} N m: the applied load). Equilibrium sun + ring + "

@@ -31,6 +31,7 @@ from cases.gearset import CaseError
 from cases.study_case import case_sizes, load_study_case
 from gears.analytic import phasing
 from postprocess import phasing_fe as pf
+from postprocess.run_scalars import sizes_in_words
 from solvers.body_store import BodyStore
 from studies.cli import guarded
 from studies.files import atomic_write_text, read_json, write_json
@@ -72,7 +73,7 @@ def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, lis
     records = []
     say(
         f"{name}: {gs.planets} planets at {', '.join(f'{a:.3f}' for a in psi)} deg, "
-        f"{m} positions, level {level}"
+        f"{m} positions, {sizes_in_words(level, variant)}"
     )
     for k in range(m):
         t0 = time.perf_counter()
