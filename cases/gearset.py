@@ -89,6 +89,18 @@ UM = 1e-3  # mm per um
 MAX_BACKLASH_UM = 1000.0
 
 
+def accepted_fields() -> dict[str, tuple[str, ...]]:
+    """The keys :func:`parse_gearset` accepts, per table ("" the top level; ``gears.*`` any
+    gear, ``meshes[]`` each mesh): what the field reference (:mod:`cases.reference`) lists."""
+    return {
+        "": _TOP_FIELDS,
+        "common": _COMMON_FIELDS,
+        "gears.*": _GEAR_FIELDS,
+        "gears.*.modifications": MODIFICATION_FIELDS,
+        "meshes[]": _MESH_FIELDS,
+    }
+
+
 class CaseError(ValueError):
     """A case file is malformed: the message names the file, the field and what is allowed."""
 

@@ -276,6 +276,13 @@ def _names(cls) -> tuple[str, ...]:
     return tuple(f.name for f in fields(cls))
 
 
+def accepted_fields() -> dict[str, tuple[str, ...]]:
+    """The keys :func:`parse_study_case` accepts, per table ("" the top level): what the
+    field reference (:mod:`cases.reference`) lists."""
+    tables = {"bearing": Bearing, "material": Material, "model": Model, "numerics": Numerics}
+    return {"": _TOP_FIELDS, **{t: _names(c) for t, c in tables.items()}, "system": _names(System)}
+
+
 # Range checks: field -> (low, high, inclusive bounds), in the units of the dataclasses.
 _RANGES = {
     "bearing.radial_stiffness": (1e2, 1e12),
