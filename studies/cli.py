@@ -13,6 +13,7 @@ import contextlib
 import signal
 import sys
 import threading
+from pathlib import Path
 
 from cases.gearset import CaseError
 from gears.spec import GeometryError
@@ -72,6 +73,15 @@ def one_line(exc: BaseException) -> str:
     if isinstance(exc, (*INPUT_ERRORS, ResultFileError, CacheDirError, StudyFailed)):
         return text
     return f"{type(exc).__name__}: {text}"
+
+
+def with_path(text: str, name: str) -> str:
+    """The case loader names a file by its name (``my_case.toml: ...``); the path the user
+    gave is clearer when the case is not in cases/."""
+    base = Path(name).name
+    if name.endswith(".toml") and name != base and text.startswith(f"{base}: "):
+        return f"{name}: {text[len(base) + 2 :]}"
+    return text
 
 
 def _interrupt(signum, frame) -> None:

@@ -12,8 +12,12 @@ from pathlib import Path
 from postprocess.paper_report import record_wall_time, write_paper_report
 
 
-def main(argv=None) -> None:
-    ap = argparse.ArgumentParser(prog="python -m studies.paper_report", description=__doc__)
+def main(argv=None, prog: str = "python -m studies.paper_report") -> None:
+    ap = argparse.ArgumentParser(
+        prog=prog,
+        description="Write results/report.md: every case report and picture under the results "
+        "folder on one page, one row per case run, speed against error.",
+    )
     ap.add_argument("--results", type=Path, default=Path("results"))
     ap.add_argument("--started", type=Path, default=None,
                     help="start stamp of a full make (seconds since the epoch)")  # fmt: skip

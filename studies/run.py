@@ -80,6 +80,7 @@ from studies.cli import (
     exit_code,
     interrupt_on_sigterm,
     one_line,
+    with_path,
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
 from studies.plausibility import plausibility_warnings
@@ -469,9 +470,9 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_INVALID_INPUT)
 
 
-def parse_args(argv=None) -> argparse.Namespace:
+def parse_args(argv=None, prog: str = "python -m studies.run") -> argparse.Namespace:
     ap = _Parser(
-        prog="python -m studies.run",
+        prog=prog,
         description=__doc__.splitlines()[0],
         epilog="exit status: 0 ok, 1 a position failed (finished ones kept), 2 invalid input, "
         "3 a result file could not be written or read, 4 MPI ranks out of step (aborted), "
@@ -510,8 +511,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     return ap.parse_args(argv)
 
 
-def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD) -> int:
-    args = parse_args(argv)
+def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m studies.run") -> int:
+    args = parse_args(argv, prog)
     progress = Progress(comm, quiet=args.quiet)
     ranks = Ranks(comm, log=Path(args.out) / "aborted.log")
     store = BodyStore(reuse=not args.no_reuse)  # bodies factorized once for all cases
@@ -546,7 +547,7 @@ def run_case(name: str, args: argparse.Namespace, comm, progress: Progress, rank
         return EXIT_INTERRUPTED
     except Exception as exc:
         code = exit_code(exc)
-        text = _with_path(one_line(exc), name)
+        text = with_path(one_line(exc), name)
         if code == EXIT_INTERNAL:
             text += " (an unexpected error: rerun with --traceback and report it)"
         failure = (code, text, traceback.format_exc())
@@ -558,15 +559,6 @@ def run_case(name: str, args: argparse.Namespace, comm, progress: Progress, rank
     _, text, _ = dict(errors).get(0, errors[0][1])  # rank 0's message if it has one
     progress.error(text)
     return max(f[0] for _, f in errors)
-
-
-def _with_path(text: str, name: str) -> str:
-    """The case loader names a file by its name (``my_case.toml: ...``); the path the user
-    gave is clearer when the case is not in cases/."""
-    base = Path(name).name
-    if name.endswith(".toml") and name != base and text.startswith(f"{base}: "):
-        return f"{name}: {text[len(base) + 2 :]}"
-    return text
 
 
 if __name__ == "__main__":
