@@ -63,8 +63,9 @@ def _describe(study) -> str:
 
     gs = study.gearset
     level, other = case_sizes(study)
-    label = run_label(level, study.numerics.degree, *(other.get(k) for k in ("flank_level",
-                                                                           "fillet_level")))  # fmt: skip
+    label = run_label(
+        level, study.numerics.degree, other.get("flank_level"), other.get("fillet_level")
+    )
     return (
         f"{study.name}: valid: gear set {gs.name} ({gs.kind.replace('_', ' ')}, {gs.planets} "
         f"planets, {gs.input_torque:g} N m on the sun), scene {study.model.scene}, sizes "
