@@ -30,13 +30,16 @@ FIND_PYTHON = for p in python3.12 python3.13 python3.14 \
 	  if "$$p" -c 'import sys; sys.exit(sys.version_info < (3, 12))' >/dev/null 2>&1; then \
 	    command -v "$$p"; exit 0; fi; done; exit 1
 
-.PHONY: all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
+.PHONY: docs all setup test test-serial test-mpi analytic meshes bench-mesh bench-solver lint clean \
 	distclean help case1 case1-system case2 case2-system $(CASE1) $(CASE2) study bench-case1 bench-study \
 	report start-clock
 
 # The main study, one step after the other; the first stamps the start time, the last (the
 # recipe) writes results/report.md with the wall time of the whole run (results/bench/make_all.json).
-MAIN_CONVERGENCE ?= convergence-main
+# The ± of the summaries come from the convergence records in studies/records/convergence/;
+# `make` solves no ladder (`make MAIN_CONVERGENCE=convergence-main` runs the ladders first,
+# where no record of them exists).
+MAIN_CONVERGENCE ?=
 all: start-clock setup analytic meshes $(MAIN_CONVERGENCE) case1 case2 ## set up and run the main study: results/report.md
 	@$(MAKE) --no-print-directory report STARTED=$(RESULTS)/bench/.make_start
 
@@ -47,8 +50,15 @@ start-clock:
 report: $(STAMP) ## the whole study on one page: results/report.md
 	$(PY) -m studies.paper_report --results $(RESULTS) $(if $(STARTED),--started $(STARTED))
 
-help: ## list the targets
-	@grep -E '^[a-zA-Z0-9_-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-14s %s\n", $$1, $$2}'
+# `## ` marks a target of the product (one run of a case and its report), `### ` a research or
+# verification study that uses it.
+help: ## list the targets: the product first, then the studies
+	@echo "The product (make VARIABLE=value TARGET):"
+	@grep -E '^[a-zA-Z0-9_-]+:.*[^#]## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-17s %s\n", $$1, $$2}'
+	@printf "  %-17s %s\n" "$(firstword $(CASE1) $(CASE2)) ..." "one shipped case: $(CASE1) $(CASE2) [NP=2] [IN_CORE=1]"
+	@echo
+	@echo "Research and verification studies:"
+	@grep -E '^[a-zA-Z0-9_-]+:.*### ' $(MAKEFILE_LIST) | awk -F':.*### ' '{printf "  %-17s %s\n", $$1, $$2}'
 
 setup: $(STAMP) ## create the virtualenv and install pinned dependencies
 
@@ -101,7 +111,7 @@ case1: $(STAMP) ## the four case-1 FE cases and their report: results/case1/repo
 # The system scenes and their branch references run at SYSTEM_LEVEL's own sizes (--level):
 # at plain level 1 they already peak at 19-21 GB, so the case files' finer flanks and fillets
 # (every pinion's in the system scene) are not used there.
-case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/case1-system/report.md
+case1-system: $(STAMP) ### case 1 in the system scene (elastic carrier): results/case1-system/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --scene system --level $(SYSTEM_LEVEL) \
 	  --out $(RESULTS)/case1-system $(STUDY_FLAGS)
 	$(PY) -m studies.pin_errors 1-GB --errors 0 10 25 50 --out $(RESULTS)/case1-system
@@ -119,7 +129,7 @@ case1-system: $(STAMP) ## case 1 in the system scene (elastic carrier): results/
 # process at 21.2 GB resident at its peak (2026-11-27; 8.8 min and 11.2 GB before the root
 # stress was read in both scenes); SYSTEM_LEVEL=0 on a smaller machine.
 SYSTEM_LEVEL ?= 1
-case2-system: $(STAMP) ## case 2 in the system scene (six carrier pins): results/case2-system/report.md
+case2-system: $(STAMP) ### case 2 in the system scene (six carrier pins): results/case2-system/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --scene system \
 	  --level $(SYSTEM_LEVEL) --out $(RESULTS)/case2-system $(STUDY_FLAGS)
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --root-fillets coarse \
@@ -132,16 +142,16 @@ case2: $(STAMP) ## the case-2 FE cases (double pinion) and their report: results
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(CASE_FLAGS)
 	$(PY) -m studies.case2_report --results $(RESULTS) --cases $(CASE2) --single $(CASE1)
 
-bench-study: $(STAMP) ## reuse and MPI speed-ups of the study: results/bench/study.json
+bench-study: $(STAMP) ### reuse and MPI speed-ups of the study: results/bench/study.json
 	$(PY) -m studies.bench_study --out $(RESULTS)/bench --level 1
 
 meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
 	$(PY) -m studies.meshes --gearsets $(GEARSETS) --carrier --out $(RESULTS)/meshes
 
-bench-mesh: $(STAMP) ## meshing benchmark: results/bench/meshing.json
+bench-mesh: $(STAMP) ### meshing benchmark: results/bench/meshing.json
 	$(PY) -m studies.bench_meshing --gearsets $(GEARSETS) --out $(RESULTS)/bench/meshing.json
 
-bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
+bench-solver: $(STAMP) ### contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
 	$(PY) -m studies.bench_solver --out $(RESULTS)/bench
 	$(MPIEXEC) -n 2 $(PY) -m studies.bench_solver --out $(RESULTS)/bench/mpi2
 
@@ -152,7 +162,7 @@ bench-solver: $(STAMP) ## contact solver benchmark, serial and 2 ranks: results/
 # the fillets of the loaded teeth refined; peaks at 7 GB at level 1 with 0.12 mm fillets.
 FILLETS ?= 0.45 0.3 0.2 0.15 0.12
 .PHONY: fillet-study
-fillet-study: $(STAMP) ## root stress against fillet size: results/fillet/<case>/fillet_L1_loaded.{json,md}
+fillet-study: $(STAMP) ### root stress against fillet size: results/fillet/<case>/fillet_L1_loaded.{json,md}
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make fillet-study CASE=1-GB" >&2; exit 2; }
 	$(PY) -m studies.fillet_study $(CASE) --level 1 --fillets $(FILLETS) --loaded-only \
 	  --out $(RESULTS)/fillet
@@ -163,7 +173,7 @@ fillet-study: $(STAMP) ## root stress against fillet size: results/fillet/<case>
 # four 0.15 mm read sectors; the level-1 variants took 15-16 min beside another run).
 DRIVER_LEVEL ?= 0
 .PHONY: driver-sizes
-driver-sizes: $(STAMP) ## which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>[_roll<roll>].{json,md}
+driver-sizes: $(STAMP) ### which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>[_roll<roll>].{json,md}
 	$(PY) -m studies.driver_sizes --case $(or $(CASE),1-GB) --level $(DRIVER_LEVEL) \
 	  --out $(RESULTS)/convergence
 
@@ -178,7 +188,7 @@ SECTOR_VARIANTS ?=
 # the sun angle (rad) of the position read; 0 is the convergence records' position
 SECTOR_ROLL ?= 0
 .PHONY: sector-sizes
-sector-sizes: $(STAMP) ## which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>[_roll<roll>].{json,md}
+sector-sizes: $(STAMP) ### which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>[_roll<roll>].{json,md}
 	$(PY) -m studies.sector_sizes --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
 	  --roll $(SECTOR_ROLL) $(if $(SECTOR_VARIANTS),--variants $(SECTOR_VARIANTS)) \
 	  --out $(RESULTS)/convergence
@@ -186,7 +196,7 @@ sector-sizes: $(STAMP) ## which sizes the root-stress sector follows: results/co
 # The spread of sector-sizes' straight variants at one read fillet (1:0.1 2:0.1 3:0.1 at level
 # 1) kept with the case's convergence record: the floor under its root stresses' sector U.
 .PHONY: sector-scatter
-sector-scatter: $(STAMP) ## keep sector-sizes' scatter with the case's record (solves nothing): studies/records/convergence/<case>/
+sector-scatter: $(STAMP) ### keep sector-sizes' scatter with the case's record (solves nothing): studies/records/convergence/<case>/
 	$(PY) -m studies.sector_scatter --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
 	  --roll $(SECTOR_ROLL) --out $(RESULTS)/convergence
 
@@ -194,11 +204,11 @@ sector-scatter: $(STAMP) ## keep sector-sizes' scatter with the case's record (s
 # CG/GAMG on one 1-GB position per level; time, peak memory and the change of every result.
 LINEAR_LEVELS ?= 1 2
 .PHONY: bench-linear
-bench-linear: $(STAMP) ## exact LU vs BLR vs CG/GAMG: results/bench/linear_solver.{json,md}
+bench-linear: $(STAMP) ### exact LU vs BLR vs CG/GAMG: results/bench/linear_solver.{json,md}
 	$(PY) -m studies.bench_linear --levels $(LINEAR_LEVELS) --out $(RESULTS)/bench
 
 .PHONY: bench-contact
-bench-contact: $(STAMP) ## line vs zone contact model: results/bench/contact_grid.json
+bench-contact: $(STAMP) ### line vs zone contact model: results/bench/contact_grid.json
 	$(PY) -m studies.bench_contact --out $(RESULTS)/bench --level 0
 
 # Convergence study of any case (issue 13): mesh levels 0 1 2 (P1) and level 0 with P2 (the p
@@ -218,7 +228,7 @@ CONV_LEVELS ?= 0 1 2
 POSITIONS ?= 1
 SPLIT ?=
 OOC ?=
-convergence: $(STAMP) ## discretisation error of every scalar: make convergence CASE=1-GB -> results/convergence/<case>/
+convergence: $(STAMP) ### discretisation error of every scalar: make convergence CASE=1-GB -> results/convergence/<case>/
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make convergence CASE=1-GB" >&2; exit 2; }
 	$(PY) -m studies.convergence $(CASE) --levels $(CONV_LEVELS) --extra $(CONV_EXTRA) \
 	  --positions $(POSITIONS) --out $(RESULTS)/convergence \
@@ -251,7 +261,7 @@ CONV_MAIN_FLAGS = $(if $(filter 1 yes true,$(RECORD)),--record,--unless-recorded
 # per run: 1-GB's level 1 reads eight sectors (two finer ones per loaded fillet), over an hour
 CONV_MAIN_TIMEOUT ?= 10800
 .PHONY: convergence-main
-convergence-main: $(STAMP) ## the ladders behind the ±, unless recorded (RECORD=1: solve and record them)
+convergence-main: $(STAMP) ### the ladders behind the ±, unless recorded (RECORD=1: solve and record them)
 	$(PY) -m studies.convergence 1-GB --levels 0 1 2 --extra $(CONV_MAIN_EXTRA) --split-root-stress \
 	  --out-of-core 2 1:1:2:2 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence $(CONV_MAIN_FLAGS)
 	$(PY) -m studies.convergence 2B-GA --levels 0 1 2 --extra $(CONV_MAIN_EXTRA) --split-root-stress \
@@ -261,7 +271,7 @@ convergence-main: $(STAMP) ## the ladders behind the ±, unless recorded (RECORD
 # run solved again by today's code and compared scalar by scalar (kept in the record; the
 # summaries quote it). About 4 min for 1-GB, 5 min for 2B-GA on 2 cores (2026-11-29).
 .PHONY: reproduce-records
-reproduce-records: $(STAMP) ## solve the records' level-0 runs again by today's code, compare, note it in the records
+reproduce-records: $(STAMP) ### solve the records' level-0 runs again by today's code, compare, note it in the records
 	$(PY) -m studies.convergence 1-GB --reproduce 0 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 	$(PY) -m studies.convergence 2B-GA --reproduce 0 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 
@@ -271,13 +281,13 @@ reproduce-records: $(STAMP) ## solve the records' level-0 runs again by today's 
 # L:D:F:R (and level R's refined fillets).
 RUN ?= 1:1:2
 .PHONY: add-to-record
-add-to-record: $(STAMP) ## an off-ladder run added to a record: make add-to-record CASE=1-GB RUN=1:1:2 [OOC=1:1:2]
+add-to-record: $(STAMP) ### an off-ladder run added to a record: make add-to-record CASE=1-GB RUN=1:1:2 [OOC=1:1:2]
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make add-to-record CASE=1-GB RUN=1:1:2" >&2; exit 2; }
 	$(PY) -m studies.convergence $(CASE) --add-to-record $(RUN) $(if $(OOC),--out-of-core $(OOC)) \
 	  --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 
 # The case-1 speed-against-error benchmark is the convergence study of 1-GB (with P2).
-bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
+bench-case1: $(STAMP) ### case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
 	@$(MAKE) --no-print-directory convergence CASE=1-GB CONV_EXTRA=0:2
 
 # The radial mesh stiffness of the case-1 meshes from the FE (pust2016): with the case's
@@ -287,7 +297,7 @@ bench-case1: $(STAMP) ## case 1 speed against error: the convergence study of 1-
 # each: 30.5 min and 6.7 GB at level 1, 3.5 min at level 0 (2026-11-29, beside other work).
 RS_LEVEL ?= 1
 .PHONY: radial-stiffness phasing
-radial-stiffness: $(STAMP) ## FE radial mesh stiffness, floating-sun threshold: results/radial_stiffness/
+radial-stiffness: $(STAMP) ### FE radial mesh stiffness, floating-sun threshold: results/radial_stiffness/
 	$(PY) -m studies.radial_stiffness --case 1-GB --level $(RS_LEVEL) --out $(RESULTS)/radial_stiffness
 	$(PY) -m studies.radial_stiffness --case 1-GB --level 0 --contact-model line \
 	  --out $(RESULTS)/radial_stiffness/line
@@ -295,13 +305,13 @@ radial-stiffness: $(STAMP) ## FE radial mesh stiffness, floating-sun threshold: 
 # Planet phasing (parker2000): 3 equally spaced planets, and 4 at 0/91.4/180/271.4 deg (snapped
 # to the assemblable 91.43, 271.43), all-planet scene, 12 positions over one mesh cycle, level 0
 # (about 15 min on 2 cores).
-phasing: $(STAMP) ## planet phasing, all-planet FE over one mesh cycle: results/phasing/
+phasing: $(STAMP) ### planet phasing, all-planet FE over one mesh cycle: results/phasing/
 	$(PY) -m studies.phasing --case parker2000-3 --case parker2000-4 0 91.4 180 271.4 \
 	  --positions 12 --level 0 --out $(RESULTS)/phasing
 
 # Lead slopes of pinion and sun that re-centre the patterns (|ZS|, |ZR| < 0.5 mm), at the case's level.
 .PHONY: lead-correction
-lead-correction: $(STAMP) ## lead correction of a case: make lead-correction CASE=1-GB -> results/lead_correction/
+lead-correction: $(STAMP) ### lead correction of a case: make lead-correction CASE=1-GB -> results/lead_correction/
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make lead-correction CASE=1-GB" >&2; exit 2; }
 	$(PY) -m studies.lead_correction --case $(CASE) --out $(RESULTS)/lead_correction
 
@@ -321,9 +331,14 @@ ccx-setup:
 	  fi; \
 	  command -v ccx >/dev/null 2>&1 || { echo "error: CalculiX (ccx) not found and not installable here: run 'apt-get install -y calculix-ccx' as root (Debian/Ubuntu), or put ccx on PATH" >&2; exit 1; }; }
 
-bench-peer: $(STAMP) ccx-setup ## ours against CalculiX on the same meshes: results/bench/peer.{json,md}
+bench-peer: $(STAMP) ccx-setup ### ours against CalculiX on the same meshes: results/bench/peer.{json,md}
 	$(PY) -m studies.bench_peer --cases 1-GA 1-GC --levels $(PEER_LEVELS) --out $(RESULTS)/bench \
 	  $(PEER_ARGS)
+
+# The docs site, offline, warnings as errors (the case-file references are generated from
+# cases/reference.py at the start of the build).
+docs: $(STAMP) ## the docs site: docs/_build/html/index.html
+	$(VENV)/bin/sphinx-build -W --keep-going -q -b html docs docs/_build/html
 
 lint: $(STAMP) ## ruff
 	$(VENV)/bin/ruff check $(PACKAGES) tests
