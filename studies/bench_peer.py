@@ -64,6 +64,7 @@ from solvers.elastic_body import Material
 from solvers.gear_train import bearing_stiffness, pinion_frame, sun_torque
 from studies.case_variants import global_root_stress
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 MOMENTS = ("Mx_pin", "My_pin", "M_LOA_sun", "M_LOA_ring")
 CENTROIDS = ("ZS", "ZR")
@@ -101,7 +102,7 @@ def ours(case: str, level: int, roll: float, path: Path) -> None:
     study = global_root_stress(load_study_case(case))
     study = replace(study, numerics=replace(study.numerics, contact_model="line"))
     t0 = time.perf_counter()
-    pos = solve_position(study, roll, MPI.COMM_SELF, level=level)
+    pos = solve_position(study, roll, MPI.COMM_SELF, RunSettings(level=level))
     wall = time.perf_counter() - t0
     hz = contact_stress_at_points(study.gearset, study.material, pos)
     (pname,) = list(pos["pinions"])

@@ -44,6 +44,7 @@ from solvers.root_submodel import SubmodelBody
 from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, write_json
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 
 def _rows(bs: dict) -> dict[str, dict]:
@@ -69,7 +70,7 @@ def bench(args) -> None:
     # a first solve sets up the bodies and the sectors (at the default tolerance); every row
     # after it reuses them
     t0 = time.perf_counter()
-    solve_position(study, args.roll, comm, level=args.level, store=store)
+    solve_position(study, args.roll, comm, RunSettings(level=args.level), store=store)
     setup_s = time.perf_counter() - t0
     runs = []
     for rtol in rtols:  # tightest first: the reference
@@ -77,7 +78,7 @@ def bench(args) -> None:
             if isinstance(obj, SubmodelBody):
                 obj.ksp.setTolerances(rtol=rtol)
         t0 = time.perf_counter()
-        out = solve_position(study, args.roll, comm, level=args.level, store=store)
+        out = solve_position(study, args.roll, comm, RunSettings(level=args.level), store=store)
         runs.append({"rtol": rtol, "wall_s": time.perf_counter() - t0,
                      "keys": _rows(out["bending_stress"])})  # fmt: skip
     ref = runs[0]["keys"]
@@ -114,7 +115,9 @@ def bench_thresholds(args) -> None:
             solves = []
             for _ in range(1 + args.repeats):
                 t0 = time.perf_counter()
-                out = solve_position(study, args.roll, comm, level=args.level, store=store)
+                out = solve_position(
+                    study, args.roll, comm, RunSettings(level=args.level), store=store
+                )
                 wall = time.perf_counter() - t0
                 bs = out["bending_stress"]
                 keys = {}

@@ -50,7 +50,8 @@ from postprocess.paper_moments import LOA_ALIASES
 from solvers.body_store import BodyStore
 from studies.cli import InputError, guarded
 from studies.memory import peak_rss_mb
-from studies.position import solve_position
+from studies.position import PositionExtras, solve_position
+from studies.settings import RunSettings
 from studies.variant_file import run_variants
 
 #: the sector every variant is read on (the default level's: 0.15 mm read fillets)
@@ -85,9 +86,14 @@ def solve_variant(study, name: str, level: int, roll: float, comm, log=None) -> 
     # a store that keeps nothing: one position per variant, so the global factors are freed
     # before the sectors and each sector after its reading (a keeping store held the global
     # factors and all twelve of 2B-GA's level-1 sectors: 22.3 GB, then killed at 23.2 GB)
-    out = solve_position(study, roll, comm, level=sizes, spacing=spacing,
-                         submodel_levels=(READ_LEVEL,), own_sectors=False, sector_log=log,
-                         store=BodyStore(reuse=False))  # fmt: skip
+    out = solve_position(
+        study,
+        roll,
+        comm,
+        RunSettings(level=sizes, grid_spacing=spacing),
+        store=BodyStore(reuse=False),
+        extras=PositionExtras(submodel_levels=(READ_LEVEL,), own_sectors=False, sector_log=log),
+    )
     read = out["bending_stress_fillets"]
     bs = next(iter(read.values()))
     keys = list(bs["locations"])

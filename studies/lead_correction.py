@@ -36,6 +36,7 @@ from studies.case_variants import global_root_stress
 from studies.cli import InputError, guarded
 from studies.files import atomic_write_text, write_json
 from studies.position import roll_angles, solve_position
+from studies.settings import RunSettings
 
 
 def evaluate(study, slopes: dict, crowns: dict | None, rolls, comm, level, store,
@@ -46,7 +47,10 @@ def evaluate(study, slopes: dict, crowns: dict | None, rolls, comm, level, store
     gs = lc.corrected_gearset(study.gearset, slopes, crowns)
     trial = dataclasses.replace(study, gearset=gs)
     variant = variant or {}
-    solved = [solve_position(trial, r, comm, level=level, store=store, **variant) for r in rolls]
+    solved = [
+        solve_position(trial, r, comm, RunSettings(level=level, **variant), store=store)
+        for r in rolls
+    ]
     return summarise(trial, solved, [], {"level": level, **variant})
 
 

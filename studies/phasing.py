@@ -35,7 +35,8 @@ from postprocess.run_scalars import sizes_in_words
 from solvers.body_store import BodyStore
 from studies.cli import guarded
 from studies.files import atomic_write_text, read_json, write_json
-from studies.position import solve_position
+from studies.position import PositionExtras, solve_position
+from studies.settings import RunSettings
 
 
 def planet_angles(study, angles_deg) -> tuple[list[float], float]:
@@ -78,7 +79,12 @@ def run_case(name: str, angles, args, comm, store, say) -> tuple[dict, dict, lis
     for k in range(m):
         t0 = time.perf_counter()
         pos = solve_position(
-            study, k * pitch / m, comm, level=level, scene_options=opts, store=store, **variant
+            study,
+            k * pitch / m,
+            comm,
+            RunSettings(level=level, **variant),
+            store=store,
+            extras=PositionExtras(scene_options=opts),
         )
         rec = pf.position_record(pos, gs)
         records.append(rec)

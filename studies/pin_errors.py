@@ -43,6 +43,7 @@ from studies.cli import InputError, StudyFailed, guarded, one_line
 from studies.files import on_root, write_json
 from studies.position import solve_position
 from studies.ranks import Ranks
+from studies.settings import RunSettings
 
 #: ``--root-stress``: read on the most loaded planet's submodels, or not at all (load shares)
 ROOT_STRESS = ("submodel", "none")
@@ -82,7 +83,7 @@ def run(case: str, errors: list[float], out: Path, level: int, direction: str,
         what = f"{base.name}: sun support {k_sun:g} N/mm, pin error {e:g} um"
         failure, pos = None, None
         try:
-            pos = solve_position(study, 0.0, comm, level=level, store=store)
+            pos = solve_position(study, 0.0, comm, RunSettings(level=level), store=store)
         except Exception as exc:  # shared with every rank below
             failure = one_line(exc)
         failed = ranks.agree(failure, what)

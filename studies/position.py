@@ -16,13 +16,12 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from cases.gearset import CaseError
-from cases.study_case import case_sizes
-from meshing import sizing
 from meshing.scene_bodies import load_body_meshes
 from meshing.scenes import build_scene, cycle_angles, refines_root_fillets
 from meshing.submodel import submodel_level
@@ -34,6 +33,7 @@ from solvers.results import write_vtx
 from solvers.root_stress import root_stress
 from solvers.root_submodel import sector_teeth, submodel_root_stress
 from studies.memory import peak_rss_mb
+from studies.settings import RunSettings
 
 _SECTOR_MEMO: dict[str, dict[str, int]] = {}  # see cycle_sector_teeth
 
@@ -94,66 +94,64 @@ def cycle_sector_teeth(study, roll: float, spacing: float, width=None,
     return dict(_SECTOR_MEMO[key])
 
 
+@dataclass(frozen=True)
+class PositionExtras:
+    """What a research study asks of a position beyond one run of a case.
+
+    ``scene_options``: passed to the scene builder (e.g. ``pinion_radial_offset`` in mm,
+    ``phase_offsets``; :func:`meshing.scenes.planetary_scene`); ``submodel_levels``: read
+    the root stress also on the submodels of these global levels (their sectors,
+    :func:`meshing.submodel.submodel_level`) at the same global solution, in
+    ``bending_stress_fillets`` keyed by the read fillet size (``"%g"``): the submodel ladder
+    of a convergence study; ``own_sectors``: False skips the read on the level's own sectors
+    (``bending_stress`` None, for a diagnostic that reads ``submodel_levels`` only);
+    ``sector_log``: called with a line per root-stress sector solved (every rank)."""
+
+    scene_options: dict = field(default_factory=dict)
+    submodel_levels: tuple = ()
+    own_sectors: bool = True
+    sector_log: Callable[[str], None] | None = None
+
+
+class Position(dict):
+    """The results of one solved position (JSON-ready: ``positions/<k>.json``), and where
+    asked (``keep_fields``) ``write_fields(folder)``, which writes every body's displacement
+    as VTX (``<folder>/<body>.bp``, collective) so the caller can save the result first and
+    the fields after it (None otherwise: the closure holds the position's whole model)."""
+
+    write_fields: Callable[[Path], list[Path]] | None = None
+
+
 def solve_position(
     study,
     roll: float,
     comm,
+    settings: RunSettings | None = None,
     *,
-    level: int | None = None,
-    degree: int | None = None,
-    keep_fields: bool = False,
-    progress: Callable[[str], None] | None = None,
-    spacing: float | None = None,
-    width: float | None = None,
-    penalty_factor: float | None = None,
-    micro=None,
-    scene_options: dict | None = None,
     store: BodyStore | None = None,
-    submodel_levels: tuple[int, ...] = (),
-    own_sectors: bool = True,
-    sector_log: Callable[[str], None] | None = None,
-    flank_level: int | None = None,
-    fillet_level: int | None = None,
-) -> dict | tuple[dict, Callable[[Path], list[Path]]]:
-    """Solve ``study`` at sun angle ``roll`` (rad). Settings default to the study's
-    (its sizes, :func:`cases.study_case.case_sizes`: a level given is that level's own;
-    ``numerics``); ``keep_fields``: return ``(result, write_fields)``,
-    where ``write_fields(folder)`` writes every body's displacement as VTX
-    (``<folder>/<body>.bp``, collective), so the caller can save the result first and the
-    fields after it; ``progress``: called with the name of each stage as it starts
-    (``scene``, ``meshes``, ``model``, ``solve``, ``post``); ``scene_options``: passed to the
-    scene builder (e.g. ``pinion_radial_offset`` in mm, ``phase_offsets``;
-    :func:`meshing.scenes.planetary_scene`);
-    ``store``: bodies and meshes kept from earlier positions and cases (default: none kept;
-    a store without reuse has its bodies' factors freed after the solve);
-    ``submodel_levels``: read the root stress also on the submodels of these global levels
-    (their sectors, :func:`meshing.submodel.submodel_level`) at the same
-    global solution, in ``bending_stress_fillets`` keyed by the read fillet size (``"%g"``):
-    the submodel ladder of a convergence study (:mod:`studies.convergence`); ``own_sectors``:
-    False skips the read on the level's own sectors (``bending_stress`` None, for a
-    diagnostic that reads ``submodel_levels`` only); ``sector_log``: called with a line per
-    root-stress sector solved (a ladder run's log; every rank); ``flank_level``: the active
-    teeth's flank elements (and so the default contact grid) at that level's size,
-    ``fillet_level``: the named fine fillets at that level's, every other size and the
-    root-stress sectors those of ``level`` (:func:`meshing.sizing.with_sizes`)."""
+    progress: Callable[[str], None] | None = None,
+    keep_fields: bool = False,
+    extras: PositionExtras | None = None,
+) -> Position:
+    """Solve ``study`` at sun angle ``roll`` (rad) with ``settings`` (the case's where they
+    leave one open, :meth:`studies.settings.RunSettings.resolved`); ``store``: bodies and
+    meshes kept from earlier positions and cases (default: none kept; a store without reuse
+    has its bodies' factors freed after the solve); ``progress``: called with the name of
+    each stage as it starts (``scene``, ``meshes``, ``model``, ``solve``, ``post``);
+    ``keep_fields``: :attr:`Position.write_fields` set; ``extras``: a research study's
+    additions (:class:`PositionExtras`)."""
     store = BodyStore() if store is None else store
     store.begin_position()
+    extras = PositionExtras() if extras is None else extras
+    run = (settings or RunSettings()).resolved(study)
     num = study.numerics
-    level, case = case_sizes(study, level)  # no level given: the case's sizes
-    degree = num.degree if degree is None else degree
-    if spacing is None:
-        spacing = num.grid_spacing
-    flank_level = case.get("flank_level") if flank_level is None else flank_level
-    fillet_level = case.get("fillet_level") if fillet_level is None else fillet_level
-    sizes = sizing.run_sizes(level, flank_level, fillet_level)
-    other = {"flank_level": flank_level, "fillet_level": fillet_level}
-    other = {k: v for k, v in other.items() if v is not None}  # the result names them
-    if spacing is None:  # default: the flank element size of the level
-        spacing = sizing.check_level(sizes).fine
-    penalty = num.penalty_factor if penalty_factor is None else penalty_factor
+    level, degree, spacing, penalty = run.level, run.degree, run.spacing, run.penalty_factor
+    sizes, other = run.sizes, run.variant  # the result names the sizes of other levels
+    scene_options = extras.scene_options
+    submodel_levels, sector_log = extras.submodel_levels, extras.sector_log
     t0 = time.perf_counter()
     _stage(progress, "scene")
-    scene = study_scene(study, roll, **(scene_options or {}))
+    scene = study_scene(study, roll, **scene_options)
     check_root_stress(study, scene)
     t_scene = time.perf_counter()
     _stage(progress, "meshes")
@@ -161,8 +159,7 @@ def solve_position(
     t_meshes = time.perf_counter()
     _stage(progress, "model")
     model = build_gear_train(scene, meshes, study, degree=degree, spacing=spacing,
-                             penalty_factor=penalty, width=width, micro=micro,
-                             store=store)  # fmt: skip
+                             penalty_factor=penalty, store=store)  # fmt: skip
     _stage(progress, "solve")
     result = model.problem.solve()
     t_solve = time.perf_counter()
@@ -178,12 +175,11 @@ def solve_position(
     out["bending_stress"] = None
     refined = refines_root_fillets(scene)
     out["root_fillets"] = "refined" if refined else "coarse"
-    # one sector size per key over the mesh cycle (none with a micro-geometry callable,
-    # which the memo cannot key: then each position's loaded teeth)
+    # one sector size per key over the mesh cycle
     sector = None
-    if num.root_stress == "submodel" and micro is None:
-        sector = cycle_sector_teeth(study, roll, spacing, width, scene_options)
-    if num.root_stress == "submodel" and own_sectors:
+    if num.root_stress == "submodel":
+        sector = cycle_sector_teeth(study, roll, spacing, scene_options=scene_options)
+    if num.root_stress == "submodel" and extras.own_sectors:
         bs = submodel_root_stress(model, result, level, store, sector=sector, log=sector_log)
         if refined:  # the global model's own value beside it, a check
             check = root_stress(model, result)
@@ -235,14 +231,15 @@ def solve_position(
     # grid's cells; each station's pair is in the mesh's stations["line"])
     out["grid_lines"] = {k: v[1].lines for k, v in model.grids.items()}
     out["g0_max_abs_mm"] = float(max(np.abs(v[0].gap0).max() for v in model.grids.values()))
+    position = Position(out)
     if keep_fields:
         problem = model.problem
 
         def write_fields(folder: Path) -> list[Path]:
             return write_vtx(folder, problem, result)
 
-        return out, write_fields
-    return out
+        position.write_fields = write_fields
+    return position
 
 
 def _stage(progress: Callable[[str], None] | None, name: str) -> None:

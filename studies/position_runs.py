@@ -33,7 +33,8 @@ from postprocess.summary import cycle_bending, summarise
 from solvers.body_store import BodyStore
 from solvers.elastic_body import OOC_DIR_ENV, ooc_folder
 from studies.memory import peak_rss_mb
-from studies.position import roll_angles, solve_position
+from studies.position import PositionExtras, roll_angles, solve_position
+from studies.settings import RunSettings
 
 ROW_MARK = "@@row "  # the line of the child's stdout that holds its row
 
@@ -125,14 +126,12 @@ def solve_run(
             study,
             roll,
             comm,
-            level=level,
-            degree=degree,
+            RunSettings(
+                level=level, degree=degree, flank_level=flank_level, fillet_level=fillet_level
+            ),
             store=store,
-            submodel_levels=tuple(submodel_levels),
             progress=progress,
-            sector_log=progress,
-            flank_level=flank_level,
-            fillet_level=fillet_level,
+            extras=PositionExtras(submodel_levels=tuple(submodel_levels), sector_log=progress),
         )
         for roll in roll_angles(study, positions)
     ]

@@ -44,7 +44,8 @@ from solvers.body_store import BodyStore
 from studies.case_variants import global_root_stress
 from studies.cli import guarded
 from studies.files import ResultFileError, atomic_write_text, read_json, write_json
-from studies.position import solve_position
+from studies.position import PositionExtras, solve_position
+from studies.settings import RunSettings
 
 #: how k_r is taken (``inputs.k_r_from``); a radial_stiffness.json without it took k_r from
 #: 5 um central differences (before 2026-11-29) and is not rewritten by ``--report-only``
@@ -110,9 +111,9 @@ def solve_offsets(study, offsets, roll, comm, level, store, say) -> dict[float, 
             study,
             roll,
             comm,
-            level=level,
-            scene_options={"pinion_radial_offset": float(d)},
+            RunSettings(level=level),
             store=store,
+            extras=PositionExtras(scene_options={"pinion_radial_offset": float(d)}),
         )
         rec = rf.radial_record(pos, study.gearset)
         rec["dofs"] = pos["dofs"]

@@ -55,7 +55,6 @@ from cases.study_case import (
     ROOT_FILLETS,
     SCENES,
     StudyCase,
-    case_sizes,
     inputs_hash,
     load_study_case,
     study_inputs,
@@ -66,7 +65,7 @@ from postprocess.contact_pattern import draw_contact_patterns
 from postprocess.flank_pictures import draw_flank_patterns
 from postprocess.loaded_scene import loaded_scene_picture
 from postprocess.paper_moments import MEAN_KEYS
-from postprocess.run_scalars import run_label, sizes_in_words
+from postprocess.run_scalars import sizes_in_words
 from postprocess.summary import summarise
 from solvers.body_store import BodyStore
 from studies.cli import (
@@ -88,6 +87,7 @@ from studies.position import check_root_stress, roll_angles, solve_position, stu
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
 from studies.ranks import Ranks
+from studies.settings import RunSettings
 from studies.uncertainty import summary_uncertainty
 
 # What a finished position file must hold to be reused (beyond the paper's scalars of its
@@ -126,23 +126,23 @@ def _finished(path: Path, key: dict, study: StudyCase, progress: Progress) -> di
     return old
 
 
-def _checked_settings(study: StudyCase, level, positions) -> tuple[int, dict, int]:
-    """The level, the sizes taken from other levels and the number of positions of the run
-    (the case file's unless given; a level given is that level's own sizes: the case's
-    ``model.flank_level`` / ``fillet_level`` go with the case's level), checked:
+def _checked_settings(study: StudyCase, level, positions) -> RunSettings:
+    """The run's settings (the case file's unless given; a level given is that level's own
+    sizes, :meth:`studies.settings.RunSettings.resolved`), checked:
     :class:`~studies.cli.InputError` names the option and what is allowed."""
-    level, variant = case_sizes(study, level)
-    n_pos = study.model.positions if positions is None else positions
     try:
-        sizing.check_level(level)
+        sizing.check_level(level if level is not None else study.model.level)
     except ValueError as exc:
         raise InputError(f"{study.name}: {exc} (option --level)") from exc
-    if isinstance(n_pos, bool) or not isinstance(n_pos, int) or not 1 <= n_pos <= MAX_POSITIONS:
+    n_pos = positions
+    if n_pos is not None and (
+        isinstance(n_pos, bool) or not isinstance(n_pos, int) or not 1 <= n_pos <= MAX_POSITIONS
+    ):
         raise InputError(
             f"{study.name}: --positions {n_pos!r}: must be an integer from 1 to "
             f"{MAX_POSITIONS} (mesh positions over one base pitch)"
         )
-    return level, variant, n_pos
+    return RunSettings(level=level, positions=positions).resolved(study)
 
 
 def _output_folder(study: StudyCase, out_root: Path) -> Path:
@@ -219,11 +219,13 @@ def run_study(
         )
     store = BodyStore() if store is None else store
     given = level is not None
-    level, variant, n_pos = _checked_settings(study, level, positions)
+    settings = _checked_settings(study, level, positions)
     # the summary's inputs (and their hash) say which sizes run: a level given, its own ones
     # (the number of positions stays the case's: a position is keyed by its roll)
     if given:
-        model = dataclasses.replace(study.model, level=level, flank_level=None, fillet_level=None)
+        model = dataclasses.replace(
+            study.model, level=settings.level, flank_level=None, fillet_level=None
+        )
         study = dataclasses.replace(study, model=model)
     out = _output_folder(study, out_root)
     try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
@@ -234,17 +236,15 @@ def run_study(
     own = ranks is None
     ranks = Ranks(comm) if own else ranks
     try:
-        return _run(study, Path(out_root), out, (level, variant), n_pos, comm, progress, ranks,
-                    store)  # fmt: skip
+        return _run(study, Path(out_root), out, settings, comm, progress, ranks, store)
     finally:
         if own:
             ranks.free()
 
 
-def _run(study, out_root: Path, out: Path, sizes, n_pos: int, comm, progress, ranks, store):
-    level, variant = sizes  # the level and the sizes it takes from others (model.flank_level)
-    degree = study.numerics.degree
-    label = run_label(level, degree, **variant)
+def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress, ranks, store):
+    level, variant, degree = settings.level, settings.variant, settings.degree
+    n_pos, label = settings.positions, settings.label
     pos_dir = out / "positions"
     on_root(comm, lambda: _make_folders(out_root, out), f"creating {pos_dir}")
     on_root(comm, _check_mesh_cache, "mesh cache")
@@ -299,9 +299,9 @@ def _run(study, out_root: Path, out: Path, sizes, n_pos: int, comm, progress, ra
         line = progress.position(tag)
         failure, write_fields = None, None
         try:
-            got = solve_position(study, roll, comm, level=level, keep_fields=k == 0,
-                                 progress=line, store=store, **variant)  # fmt: skip
-            pos, write_fields = got if k == 0 else (got, None)
+            pos = solve_position(study, roll, comm, settings, store=store, progress=line,
+                                 keep_fields=k == 0)  # fmt: skip
+            write_fields, pos.write_fields = pos.write_fields, None  # not held by `solved`
         except Exception as exc:  # shared with every rank below; finished positions stay
             failure = (one_line(exc), traceback.format_exc())
         errors = ranks.agree(failure, tag)

@@ -58,7 +58,8 @@ from postprocess.sector_scatter import GROUP_PREFIX, other_size_spreads
 from solvers.body_store import BodyStore
 from studies.cli import InputError, guarded
 from studies.memory import peak_rss_mb
-from studies.position import solve_position
+from studies.position import PositionExtras, solve_position
+from studies.settings import RunSettings
 from studies.variant_file import run_variants
 
 #: the paper's moments of any case (N m): the driver check
@@ -109,9 +110,14 @@ def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> 
     kept = submodel.SUBMODEL_GEOMETRY_ORDER
     submodel.SUBMODEL_GEOMETRY_ORDER = order  # read when a sector body is made
     try:
-        out = solve_position(study, roll, comm, level=level, submodel_levels=(sizes,),
-                             own_sectors=False, sector_log=log,
-                             store=BodyStore(reuse=False))  # fmt: skip
+        out = solve_position(
+            study,
+            roll,
+            comm,
+            RunSettings(level=level),
+            store=BodyStore(reuse=False),
+            extras=PositionExtras(submodel_levels=(sizes,), own_sectors=False, sector_log=log),
+        )
     finally:
         submodel.SUBMODEL_GEOMETRY_ORDER = kept
     bs = next(iter(out["bending_stress_fillets"].values()))

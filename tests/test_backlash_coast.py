@@ -32,6 +32,7 @@ from solvers.body_store import BodyStore
 from solvers.flank_grid import flank_contact_pairs, flank_grid
 from studies.case_variants import global_root_stress
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 UM = 1e-3
 CASE1, CASE2 = load_gearset("case1"), load_gearset("case2")
@@ -278,7 +279,7 @@ def store():
 def _solve(study, store):
     """One level-0 position; no test here reads the root stress (studies/case_variants.py)."""
     study = global_root_stress(study)
-    return solve_position(study, 0.0, MPI.COMM_SELF, level=0, degree=1, store=store)
+    return solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1), store=store)
 
 
 @pytest.fixture(scope="module")

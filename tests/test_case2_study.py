@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 from mpi4py import MPI
 from statics import chain_bound, off_line_share, sun_force
+from test_docs_outputs import check_run
 
 from cases.study_case import CASE_DIR, load_study_case
 from postprocess.case2_report import collinear_check, planetary_input, write_report
@@ -27,6 +28,7 @@ from studies import run as study_run
 from studies.case_variants import global_root_stress
 from studies.position import cycle_sector_teeth, solve_position
 from studies.progress import Progress
+from studies.settings import RunSettings
 
 GEARSETS = CASE_DIR / "gearsets"
 TORQUE = 1000.0  # N m on the sun: the user's own load, not the paper's 1378.7
@@ -210,7 +212,7 @@ def test_sp_rp_differential_split_is_exact_on_the_line_grid():
     is read on the global model (studies/case_variants.py)."""
     case = global_root_stress(load_study_case("2B-GA"))
     case = replace(case, numerics=replace(case.numerics, contact_model="line"))
-    p = solve_position(case, 0.0, MPI.COMM_SELF, level=0)
+    p = solve_position(case, 0.0, MPI.COMM_SELF, RunSettings(level=0))
     d = p["sp_rp_differential"]
     assert d["D_fe"] == pytest.approx(p["M_LOA_SPRP_diff"], abs=1e-9)
     assert d["D_pitch"] == pytest.approx(p["analytic"]["table5"]["M_LOA_SPRP_diff"], abs=1e-9)
@@ -309,7 +311,7 @@ def test_double_pinion_study_parallel_equals_serial(tmp_path):
     # serial model: with six sectors each the test peaked at 21 GB of 23); the moments
     # compared here do not depend on how the root stress is read
     study = global_root_stress(load_study_case(case))
-    ser = solve_position(study, 0.0, MPI.COMM_SELF, level=0)
+    ser = solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0))
     par = summary["positions"][0]
     scale = abs(ser["My_RP"])
     for key in (*ISSUE12, "Mx_SP", "My_SP", "Mx_RP", "My_RP", "M_LOA_SPRP_diff"):
@@ -317,3 +319,10 @@ def test_double_pinion_study_parallel_equals_serial(tmp_path):
     for key in ("ZS", "Z_SPRP", "ZR"):
         assert par[key] == pytest.approx(ser[key], abs=1e-6 * FACE), key
     assert summary["ranks"] == comm.size == 2
+
+
+def test_outputs_reference_lists_what_a_double_pinion_run_wrote(ga):
+    """docs/reference/outputs.md against 2B-GA's outputs: its double-pinion keys too
+    (tests/test_docs_outputs.py)."""
+    out, _ = ga
+    check_run(out / "2B-GA")

@@ -31,6 +31,7 @@ from meshing.sizing import MIN_SICN, MeshingError
 from solvers.gear_train import branch_pin_errors
 from studies.case_variants import coarse_root_fillets, no_root_stress
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 LOA = ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring")
 # Pair 1 of the system scene on a 1000x stiffer carrier with rigid bearings against the
@@ -159,7 +160,7 @@ def stiff_system():
     206e6 MPa, gears 206e3 (gear_modulus_factor 1e-3)."""
     study = as_system(load_study_case("2B-GA"), youngs_modulus=206e6, gear_modulus_factor=1e-3)
     # moments only: no root stress (the system scene's submodels: test_system_scene)
-    return solve_position(no_root_stress(study), 0.0, MPI.COMM_SELF, level=0)
+    return solve_position(no_root_stress(study), 0.0, MPI.COMM_SELF, RunSettings(level=0))
 
 
 @pytest.fixture(scope="module")
@@ -168,7 +169,7 @@ def branch_ga():
     ``make case2-system`` compares with): the same fillet sizes on both sides of the
     comparison; no root stress read (moments only)."""
     study = no_root_stress(coarse_root_fillets(load_study_case("2B-GA")))
-    return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
+    return solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0))
 
 
 def test_case2_system_torque_balance_and_load_shares(stiff_system):
@@ -223,8 +224,8 @@ def test_case2_system_parallel_equals_serial():
     """The double-pinion system scene (2B-GB, steel carrier) on 2 ranks against a serial
     solve: MUMPS on another partition changes round-off only (1e-6 is a wide margin)."""
     study = no_root_stress(as_system(load_study_case("2B-GB")))  # moments only
-    par = solve_position(study, 0.0, MPI.COMM_WORLD, level=0)
-    ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, level=0))
+    par = solve_position(study, 0.0, MPI.COMM_WORLD, RunSettings(level=0))
+    ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, RunSettings(level=0)))
     scale = max(abs(ser[k]) for k in LOA)
     for k in (*MOMENTS, "M_LOA_SPRP_diff"):
         assert par[k] == pytest.approx(ser[k], rel=1e-6, abs=1e-6 * scale), k

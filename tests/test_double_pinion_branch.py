@@ -19,6 +19,7 @@ from statics import chain_bound, gear_torque, off_line_share, sun_force
 from cases.study_case import load_study_case
 from studies.case_variants import global_root_stress
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)
 Z_SUN, Z_RING = 35, 92
@@ -27,14 +28,16 @@ FACE_PINION = 29.0  # mm, SP and RP face width
 
 @pytest.fixture(scope="module")
 def ga():
-    return solve_position(global_root_stress(load_study_case("2B-GA")), 0.0, MPI.COMM_WORLD,
-                          level=0)  # fmt: skip
+    return solve_position(
+        global_root_stress(load_study_case("2B-GA")), 0.0, MPI.COMM_WORLD, RunSettings(level=0)
+    )
 
 
 @pytest.fixture(scope="module")
 def gb():
-    return solve_position(global_root_stress(load_study_case("2B-GB")), 0.0, MPI.COMM_WORLD,
-                          level=0)  # fmt: skip
+    return solve_position(
+        global_root_stress(load_study_case("2B-GB")), 0.0, MPI.COMM_WORLD, RunSettings(level=0)
+    )
 
 
 @pytest.fixture(scope="module")
@@ -42,7 +45,7 @@ def ga_line():
     """2B-GA on the line contact model (every force on a plane of action)."""
     case = global_root_stress(load_study_case("2B-GA"))
     case = replace(case, numerics=replace(case.numerics, contact_model="line"))
-    return solve_position(case, 0.0, MPI.COMM_WORLD, level=0)
+    return solve_position(case, 0.0, MPI.COMM_WORLD, RunSettings(level=0))
 
 
 GEARS = ["sun", "SP", "RP", "ring"]  # the power path of the branch scene's bodies

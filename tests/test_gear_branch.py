@@ -21,7 +21,8 @@ from gears.profile import involute_deviation
 from meshing.scenes import branch_scene
 from solvers.flank_grid import flank_grid
 from studies.case_variants import global_root_stress
-from studies.position import solve_position
+from studies.position import PositionExtras, solve_position
+from studies.settings import RunSettings
 
 T_BRANCH = 1378.7 / 3  # N m per branch (singh2007 section 1)
 
@@ -97,19 +98,21 @@ def line_model(case):
 
 @pytest.fixture(scope="module")
 def ga():
-    return solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+    return solve_position(
+        load_study_case("1-GA"), 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1)
+    )
 
 
 @pytest.fixture(scope="module")
 def ga_line():
     case = line_model(load_study_case("1-GA"))
-    return solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
+    return solve_position(case, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1))
 
 
 @pytest.fixture(scope="module")
 def gc():
     study = global_root_stress(load_study_case("1-GC"))  # its tests read no root stress
-    return solve_position(study, 0.0, MPI.COMM_SELF, level=0, degree=1)
+    return solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1))
 
 
 def carrier_torque_Nm(pos: dict) -> float:
@@ -269,7 +272,9 @@ def test_penalty_sweep_on_gear_moments(ga_line):
     the exact contact limit); over the top decade they move < 1 % (issue 4, check 5)."""
     case = line_model(load_study_case("1-GA"))
     runs = {
-        f: solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1, penalty_factor=f)
+        f: solve_position(
+            case, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1, penalty_factor=f)
+        )
         for f in (10.0, 1000.0)
     }
     runs[100.0] = ga_line
@@ -288,7 +293,9 @@ def test_zone_model_has_no_penalty(ga):
     round-off (1e-9 relative: the same linear systems; measured 0)."""
     assert all(m["grid_model"] == "zone" for m in mesh_records(ga))
     case = global_root_stress(load_study_case("1-GA"))  # the moments: the same global solve
-    hi = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1, penalty_factor=1000.0)
+    hi = solve_position(
+        case, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1, penalty_factor=1000.0)
+    )
     for key in KEYS:
         scale = 29.0 if key in ("ZS", "ZR") else abs(ga["My_pin"])
         assert hi[key] == pytest.approx(ga[key], rel=1e-9, abs=1e-9 * scale), key
@@ -303,8 +310,8 @@ def test_branch_parallel_equals_serial():
     collectively before the ranks read it alone.
     """
     case = global_root_stress(load_study_case("1-GA"))  # the root stress: test_root_stress_fe
-    par = solve_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)
-    ser = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
+    par = solve_position(case, 0.0, MPI.COMM_WORLD, RunSettings(level=0, degree=1))
+    ser = solve_position(case, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1))
     for k in KEYS:
         # scale: ZS, ZR are compared against the face width, moments against My
         scale = 29.0 if k in ("ZS", "ZR") else abs(ser["My_pin"])
@@ -318,8 +325,13 @@ def test_a_position_may_read_other_sectors_only(ga):
     read does (the same driver, sector mesh, loads and first guess)."""
     from meshing.submodel import submodel_level
 
-    only = solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1,
-                          submodel_levels=(0,), own_sectors=False)  # fmt: skip
+    only = solve_position(
+        load_study_case("1-GA"),
+        0.0,
+        MPI.COMM_SELF,
+        RunSettings(level=0, degree=1),
+        extras=PositionExtras(submodel_levels=(0,), own_sectors=False),
+    )
     assert only["bending_stress"] is None
     read, own = (
         only["bending_stress_fillets"][f"{submodel_level(0).fillet:g}"],

@@ -27,6 +27,7 @@ from solvers.body_store import BodyStore
 from solvers.flank_grid import flank_grid
 from studies.case_variants import global_root_stress
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 UM = 1e-3
 CASE1 = load_gearset("case1")
@@ -245,7 +246,7 @@ def _solve(name: str, gearset, store, model: str | None = None):
     if model is not None:
         numerics = dataclasses.replace(study.numerics, contact_model=model)
         study = dataclasses.replace(study, numerics=numerics)
-    return solve_position(study, 0.0, MPI.COMM_SELF, level=0, degree=1, store=store)
+    return solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1), store=store)
 
 
 @pytest.fixture(scope="module")

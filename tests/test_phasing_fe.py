@@ -18,6 +18,7 @@ from postprocess import phasing_fe as pf
 from solvers.body_store import BodyStore
 from studies.phasing import planet_angles
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 STEP = 360.0 / 126  # deg, assemblable step of parker2000 (Zs + Zr = 126)
 
@@ -84,7 +85,8 @@ def three_planets():
     m, pitch, store = 4, 2 * math.pi / 27, BodyStore()
     recs = [
         pf.position_record(
-            solve_position(study, k * pitch / m, MPI.COMM_SELF, level=0, store=store), gs
+            solve_position(study, k * pitch / m, MPI.COMM_SELF, RunSettings(level=0), store=store),
+            gs,
         )
         for k in range(m)
     ]

@@ -15,19 +15,22 @@ from meshing.submodel import submodel_level
 from postprocess.mesh_stress import iso_nominal_root_stress
 from studies.case_variants import global_root_stress
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 KEYS = ("sun", "pinion_sun_side", "pinion_ring_side", "ring")
 
 
 @pytest.fixture(scope="module")
 def ga():
-    return solve_position(load_study_case("1-GA"), 0.0, MPI.COMM_SELF, level=0, degree=1)
+    return solve_position(
+        load_study_case("1-GA"), 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1)
+    )
 
 
 @pytest.fixture(scope="module")
 def ga_global():
     case = global_root_stress(load_study_case("1-GA"))
-    return solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)
+    return solve_position(case, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1))
 
 
 def test_tension_fillet_and_location(ga):
@@ -99,8 +102,10 @@ def test_root_stress_parallel_equals_serial():
     serial and parallel AMG hierarchies differ, so each run is that close to the exact
     value, not to the other run (measured 5e-5 and 6e-5 between 2 ranks and serial)."""
     case = load_study_case("1-GA")
-    par = solve_position(case, 0.0, MPI.COMM_WORLD, level=0, degree=1)["bending_stress"]
-    ser = solve_position(case, 0.0, MPI.COMM_SELF, level=0, degree=1)["bending_stress"]
+    par = solve_position(case, 0.0, MPI.COMM_WORLD, RunSettings(level=0, degree=1))[
+        "bending_stress"
+    ]
+    ser = solve_position(case, 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1))["bending_stress"]
     for key in KEYS:
         assert par["global"][key] == pytest.approx(ser["global"][key], rel=1e-6), key
         for q in (None, "tangent", "cell_max"):  # the submodels' values (docstring)

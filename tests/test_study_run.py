@@ -9,12 +9,14 @@ import shutil
 from pathlib import Path
 
 import pytest
+from test_docs_outputs import check_run
 
 from cases.study_case import load_study_case
 from gears.contact_stress import iso6336_pitch_contact_stress
 from gears.units import n_mm
 from studies import run as study_run
 from studies.progress import Progress
+from studies.settings import RunSettings
 
 N_POS = 2
 # what the module's study printed on stderr (warnings), filled by the fixture
@@ -237,10 +239,18 @@ def test_solve_position_takes_the_case_sizes_unless_a_level_is_given(monkeypatch
 
     def asked(**kw):
         with pytest.raises(_Meshed) as got:
-            position.solve_position(gb, 0.0, None, **kw)
+            position.solve_position(gb, 0.0, None, RunSettings(**kw))
         return got.value.args[0]
 
     assert asked() == with_sizes(1, 2, 2)
     assert asked(level=1) == 1 and asked(level=0) == 0
     assert asked(level=1, flank_level=2) == with_sizes(1, 2)
     assert asked(fillet_level=0) == with_sizes(1, 2, 0)
+
+
+def test_outputs_reference_lists_what_the_run_wrote(study):
+    """docs/reference/outputs.md names every key of this summary.json and position file and
+    every file of the case folder, and no key or file for every run that they lack
+    (tests/test_docs_outputs.py)."""
+    out, _ = study
+    check_run(out / "1-GA")

@@ -22,6 +22,7 @@ from solvers import root_submodel
 from solvers.body_store import BodyStore
 from studies.case_variants import coarse_root_fillets
 from studies.position import solve_position
+from studies.settings import RunSettings
 
 MOMENTS = ("Mx_pin", "My_pin", "Mz_pin", "M_LOA_sun", "M_LOA_ring")
 
@@ -31,14 +32,16 @@ def stiff_system():
     """1-GA (rigid bearings) with the carrier 1000x stiffer than the gears: E_carrier =
     206e6 MPa, gears 206e3 (gear_modulus_factor 1e-3)."""
     study = as_system(load_study_case("1-GA"), youngs_modulus=206e6, gear_modulus_factor=1e-3)
-    return solve_position(study, 0.0, MPI.COMM_SELF, level=0)
+    return solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0))
 
 
 @pytest.fixture(scope="module")
 def branch_ga():
     """1-GA in the one-branch scene with the system scene's coarse root fillets (like with
     like: finer fillets make the teeth more compliant)."""
-    return solve_position(coarse_root_fillets(load_study_case("1-GA")), 0.0, MPI.COMM_SELF, level=0)
+    return solve_position(
+        coarse_root_fillets(load_study_case("1-GA")), 0.0, MPI.COMM_SELF, RunSettings(level=0)
+    )
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +57,7 @@ def branch_at_phase():
     def solve(psi_deg: float) -> dict:
         roll = round((-math.radians(psi_deg)) % pitch, 12)
         if roll not in memo:
-            memo[roll] = solve_position(study, roll, MPI.COMM_SELF, level=0)
+            memo[roll] = solve_position(study, roll, MPI.COMM_SELF, RunSettings(level=0))
         return memo[roll]
 
     return solve
@@ -161,7 +164,7 @@ def test_reuse_gives_the_same_numbers():
     store = BodyStore()
     reused, built = [], []
     for s, roll in ((ga, 0.0), (ga, 0.05), (gc, 0.05)):
-        reused.append(solve_position(s, roll, MPI.COMM_SELF, level=0, store=store))
+        reused.append(solve_position(s, roll, MPI.COMM_SELF, RunSettings(level=0), store=store))
         built.append(store.built)
     # the first position builds the three bodies (sun, pinion, ring) and the four root
     # stress submodels (one per gear and loaded side); the next reuses the bodies and builds
@@ -169,7 +172,7 @@ def test_reuse_gives_the_same_numbers():
     # in the bearing only, which lives outside the bodies: nothing new
     assert built[0] == 3 + 4 and built[1] <= built[0] + 4 and built[2] == built[1]
     assert store.reused >= 3 + 3 + 4  # GA 0.05: the bodies; GC: the bodies and submodels
-    fresh = solve_position(gc, 0.05, MPI.COMM_SELF, level=0)
+    fresh = solve_position(gc, 0.05, MPI.COMM_SELF, RunSettings(level=0))
     for k in (*MOMENTS, "ZS", "ZR"):
         assert reused[2][k] == pytest.approx(fresh[k], rel=1e-8, abs=1e-10), k
     for k in reused[2]["bending_stress"]["locations"]:
@@ -192,8 +195,8 @@ def test_system_scene_parallel_equals_serial(monkeypatch):
     studies.bench_submodel of 2026-11-29) 1e-4 is a wide margin."""
     monkeypatch.setattr(root_submodel, "SUBMODEL_CG_RTOL", 1e-9)
     study = as_system(load_study_case("1-GB"))
-    par = solve_position(study, 0.0, MPI.COMM_WORLD, level=0)
-    ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, level=0))
+    par = solve_position(study, 0.0, MPI.COMM_WORLD, RunSettings(level=0))
+    ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, RunSettings(level=0)))
     for k in (*MOMENTS, "ZS", "ZR", "K_gamma"):
         scale = 29.0 if k in ("ZS", "ZR") else abs(ser["My_pin"])
         assert par[k] == pytest.approx(ser[k], rel=1e-6, abs=1e-6 * scale), k
