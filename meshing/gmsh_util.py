@@ -112,7 +112,7 @@ def curve_elements(gmsh) -> dict:
     faces on the CAD faces, so a curved face (a root fillet) is no longer a set of flat
     facets with a kink at every edge; the straight-sided P2 sector's ISO-line stress
     converged at an observed order of about 0.8 over 0.15 / 0.1 / 0.067 mm fillets, the
-    curved one at about 2.3 (1-GB sun, level-1 driver, 2026-11-29). Curving a fine mesh on a
+    curved one at about 2.3 (1-GB sun, level-1 driver; docs/validation.md). Curving a fine mesh on a
     small fillet can invert tets (48 of the 660k of 1-GB's 0.067 mm ring sector): those are
     untangled by gmsh's high-order optimiser; :class:`MeshingError` if any stays inverted.
     Returns the minimum scaled Jacobian (> 0: every tet valid) and whether the optimiser ran.

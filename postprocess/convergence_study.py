@@ -123,7 +123,7 @@ def _unit_group(key: str) -> str:
 
 #: the noise of a root stress read on a CG submodel, relative (solvers.root_submodel's
 #: CG + GAMG to rtol 1e-6 with the rigid first guess: recording 1-GB and 2B-GA again moved
-#: every root stress by up to 0.062 %, 2026-11-28); a change between levels below it has no
+#: every root stress by up to 0.062 %); a change between levels below it has no
 #: sign. The direct solves of the global model (MUMPS) are exact to round-off.
 CG_NOISE = 1e-3
 

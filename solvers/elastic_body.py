@@ -26,8 +26,8 @@ with its own solver of K_red, set up once and reused for every right-hand side:
 * ``mumps`` (default): exact sparse LU (MUMPS), the reference;
 * ``mumps-blr``: MUMPS block low-rank LU (ICNTL(35) = 2, dropping threshold CNTL(7) =
   ``tolerance``, default 1e-6): off-diagonal blocks of the factors compressed to that relative
-  accuracy. Measured on 1-GB level 2 (692k DOFs, one position): factorization 55 -> 36 s,
-  peak memory 10.6 -> 8.5 GB, My_pin and Mx_pin changed by 5e-7 and 5e-5 relative;
+  accuracy: a faster factorization in less memory, results moved by about 1e-4 at most
+  (measured: docs/performance.md);
 * ``cg-gamg``: conjugate gradients preconditioned by smoothed-aggregation AMG (PETSc GAMG,
   the body's rigid modes as near null space), relative residual ``tolerance`` (default 1e-8):
   no factor in memory (1-GB level 0: 0.6 GB against 1.25 GB), but every right-hand side is

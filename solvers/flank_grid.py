@@ -398,14 +398,10 @@ def zone_grid(
     kept as the grid's ``nominal_normal`` (:class:`solvers.contact_grid.ContactGrid`), the
     direction readers project on.
 
-    Measured (``studies.bench_contact``, level 0, roll 0; driver normal n_q everywhere /
-    the bisector everywhere / this rule): 1-GA My_pin 259.69 / 259.72 / 259.66 N m,
-    M_LOA_sun 104.95 / 105.13 / 105.08, M_LOA_ring -93.48 / -93.33 / -93.33 (< 0.2 %, the
-    load sits on the line); 1-GC (soft bearing, overturned pinion, tip corners loaded)
-    My_pin 105.00 / 107.60 / 106.31 N m, M_LOA_sun 46.84 / 47.91 / 47.53, M_LOA_ring
-    -33.47 / -34.38 / -33.78 N m, coast force 1348 / 1878 / 1746 N. The choice of normal
-    is thus a model uncertainty of about +-1.2 % on 1-GC's moments (the rule sits between
-    the two single-flank choices), and 1-GA does not see it.
+    The choice of normal is a model uncertainty of about +-1.2 % on the moments where tip
+    corners carry load (1-GC, an overturned pinion; this rule sits between the two
+    single-flank choices) and none where the load sits on the contact line (1-GA)
+    (``studies.bench_contact``; measured: docs/validation.md).
 
     Grid. Per tooth pair within reach (every driver tooth whose roll t(z) lies within one
     base pitch of the contact window somewhere on the face, so at least one pair beyond the

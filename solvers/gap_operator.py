@@ -38,8 +38,8 @@ from solvers.errors import GapOperatorError
 
 #: each mesh's bounding-box tree of its owned cells, by padding: built once per mesh and kept
 #: while the mesh lives. A body keeps its mesh at every mesh position (the points are turned
-#: into the body's frame, not the mesh), so a tree per call was rebuilding the same tree:
-#: 10.1 of a level-1 1-GB position's 80 s (cProfile, 2026-11-30: 9 gap operators, 24 builds)
+#: into the body's frame, not the mesh), so a tree per call was rebuilding the same tree,
+#: about a tenth of a reused level-1 position (measured: docs/performance.md)
 _TREES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 

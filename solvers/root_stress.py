@@ -72,8 +72,9 @@ The largest cell (midpoint) value of the fillet cells, the earlier estimate, is 
 ``cell_max``. The surface and ISO-line maxima of the nodal tensors fitted by moving least
 squares in each fillet's own coordinates (:mod:`solvers.surface_recovery`, which takes the
 node-to-node scatter off a largest value) are kept as ``recovered``, from the same nodes
-(interior, off the point forces' near field) and at the same line points (since
-2026-11-30; the quoted values are still the nodal ones).
+(interior, off the point forces' near field) and at the same line points; the reports
+quote the recovered reading where a summary holds it
+(:func:`postprocess.stress_tables.reported_root_stress`).
 
 A gear in one mesh is reported under its own name (``sun``, ``ring``); a pinion carries load
 at two meshes, on different teeth, and is reported per mate: ``<pinion>_<mate>_side`` (case

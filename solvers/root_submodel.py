@@ -74,40 +74,29 @@ from solvers.root_stress import (
 )
 
 #: solvers of the submodel: "cg-gamg" (CG + smoothed-aggregation AMG, no factor in memory;
-#: the default) or "mumps" (exact LU, the reference it is tested against). Why not an LU
-#: factorized once and reused over a study's positions: one level-1 sector's factorization
-#: (1-GB sun, 796k P2 DOFs, 2026-11-29) took the process from 12 GB to over 24 GB and was
-#: killed. Other smoothers on that sector (one process, the same right-hand side, CG 6.4 s /
-#: set-up 14.6 s with the default Chebyshev-Jacobi): SOR 14.6 s, Chebyshev 1 / 3 steps 5.4 /
-#: 8.0 s, unsmoothed aggregation 10.4 s (set-up 4.8 s): none saves more than 1 s a solve.
+#: the default) or "mumps" (exact LU, the reference it is tested against). Not an LU
+#: factorized once and reused over a study's positions: the factors of one level-1 sector
+#: do not fit in memory beside the global model; other smoothers save at most about 1 s a
+#: solve (measured: docs/performance.md).
 SUBMODEL_SOLVERS = ("cg-gamg", "mumps")
 #: CG's initial guess: "rigid", the rigid motion nearest to the cut values (the gear's
 #: rigid motion dominates them; the interior takes it with no stress, so CG starts from
-#: the elastic part alone), or "zero". 1-GA's level-0 sun sector at level 1's sizes (336k
-#: DOFs, 2026-11-27): 18 -> 16 iterations (AMG set-up 19 s, solve 4.9 -> 4.6 s); the
-#: global field as a guess, 14 iterations, costs 1.2 s more to evaluate than it saves
+#: the elastic part alone), or "zero". The rigid guess saves a few iterations; the global
+#: field as a guess saves more but costs more to evaluate than it saves (measured:
+#: docs/performance.md)
 SUBMODEL_GUESSES = ("rigid", "zero")
-#: relative residual of the CG solve. CG takes nearly all of a sector's solve time (0.6-0.8 s
-#: an iteration at level 1's sectors), so this sets what the submodels cost per position.
-#: ``python -m studies.bench_submodel`` (1-GB, level 1, roll 0, 2026-11-29, GAMG threshold
-#: 0): the four sectors' surface and ISO-line values against a 1e-10 residual moved by at most
-#: 4.1e-6 at 1e-8, 3.4e-4 at 1e-6 (20-32 iterations) and 4.4e-3 at 1e-5 (at threshold 0.02 on
-#: 2026-11-27: 3.4e-6, 1.3e-4, 1.5e-3). 1e-6: 3.4e-4 is 40x below the smallest root-stress ±
-#: (1.4 %, 1-GB's sun at level 1) and about 0.3 MPa, below the 1 MPa the values are reported to
+#: relative residual of the CG solve. CG takes nearly all of a sector's solve time, so this
+#: sets what the submodels cost per position. At 1e-6 the root stresses differ from a 1e-10
+#: solve by a few 1e-4: far below the smallest root-stress ± and the 1 MPa the values are
+#: reported to (``python -m studies.bench_submodel``; measured: docs/performance.md)
 SUBMODEL_CG_RTOL = 1e-6
 #: GAMG's graph threshold for the sectors' aggregation (edges weaker than it, relative, are
-#: dropped before aggregating). The set-up is paid once per sector, the CG once per position.
-#: 1-GA's level-0 sun sector (P2, 336k DOFs, 2026-11-28, one process, the same matrix and
-#: right-hand side, relative residual 1e-6): threshold 0.05 / 0.02 / 0.0 / -1 set up in
-#: 92.5 / 38.7 / 16.0 / 14.7 s, CG 7.7 / 10.8 / 10.7 / 13.6 s (15 / 18 / 26 / 31 iterations);
-#: unsmoothed aggregation 4.8 s and 17.9 s, no aggressive coarsening 834 s. Two of its
-#: level-1 sectors (796k and 814k DOFs, one process, 0.02 and 0.0 interleaved twice, alone on
-#: the machine): set-up 82-109 s against 34-40 s, CG 19-22 s against 21-26 s (19 against 25
-#: iterations). 1-GB's four level-1 sectors (``bench_submodel --thresholds 0 0.02 0 0.02``,
-#: 2026-11-29, one process, fresh sectors per pass, two passes each): set-up 230 / 489 s, CG
-#: 97.5 / 80.5 s per reuse (20-32 / 14-23 iterations), even at 15 reuses. A ladder run solves
-#: a sector once (0.0 halves its cost); at these costs case 1 reusing one over 20 solves saves
-#: 4 % at 0.02, case 2 over 10 7 % at 0.0: a wash over the make. So one threshold, 0.0.
+#: dropped before aggregating). The set-up is paid once per sector, the CG once per position:
+#: 0.0 sets a sector up about twice as fast as 0.02 and solves it a little slower, which
+#: halves a sector solved once (a ladder run) and changes a case run that reuses its
+#: sectors over 10-20 solves by a few per cent either way. So one threshold for every
+#: sector, 0.0 (``python -m studies.bench_submodel --thresholds``; measured:
+#: docs/performance.md).
 SUBMODEL_GAMG_THRESHOLD = 0.0
 
 

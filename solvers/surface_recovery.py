@@ -4,7 +4,7 @@ coordinates.
 The nodal surface tensors of :func:`solvers.root_stress.surface_values` (at each fillet vertex
 the mean over its fillet cells of each cell's own stress there) scatter from node to node at
 the element scale. A largest value over nodes, or along a line across them, picks that
-scatter up: 1-GB's ring at mid-cycle (roll 0.0718, level-1 driver, 2026-11-30) reads ISO's
+scatter up: 1-GB's ring at mid-cycle (roll 0.0718, level-1 driver) reads ISO's
 60 deg line 737.3 / 746.4 / 772.1 MPa on sectors of levels 1 / 2 / 3's sizes at one 0.1 mm
 read fillet, while the three surface maxima agree within 0.9 %; along the line the nodal
 values rise 4.5 % over a single axial node of the level-3 sector (747 / 760 / 772 / 758 /
@@ -33,18 +33,15 @@ Where the window holds fewer than two nodes beyond 0.3 h_s on either side of s0 
 edges), the quadratic term is dropped (a one-sided quadratic extrapolates); a fit that is
 still underdetermined or ill-conditioned gives NaN, and the caller keeps the nodal value.
 
-Measured (2026-11-30, ``make sector-sizes``, the numbers 1-GB's record keeps; on the
-level-1 driver at mid-cycle, (max - min) / mean over levels 1 / 2 / 3's sizes at 0.1 mm,
-nodal -> recovered): ISO lines sun 1.23 -> 1.22, pinion sun side 0.86 -> 0.94, ring side
-0.94 -> 1.70, ring 4.63 -> 1.64 %; surface maxima 0.75 / 0.62 / 1.68 / 0.88 -> 0.78 / 0.83 /
-1.94 / 1.03 % (an earlier capture of the same sectors, read offline, gave the pinion's
-recovered spreads as 0.81 / 1.06 and 0.92 / 1.42 %; the cause is not traced). Windows of
-1.5-3 spacings across and 3-6 along read within about 1 % of these; a fit linear across the
-profile cut the peaks by 2-5 %. The recovered surface maxima
-lie 0.3-2.8 % below the nodal ones (the nodal maxima are maxima of scattered values and
-carry the scatter's upper half); the ISO-line values from 4.0 % below to 0.9 % above them
-(the line's points fall between nodes, where the fit may pass above the nodal values'
-linear interpolation).
+Measured (``make sector-sizes``, the spreads 1-GB's record keeps; docs/validation.md): over
+equally valid sectors the recovery takes the ISO line's scatter that the nodal values pick
+up (1-GB's ring above) down to that of the other values, and leaves the surface maxima's
+within their scatter; windows of 1.5-3 spacings across and 3-6 along read within about 1 %
+of the defaults, and a fit linear across the profile cut the peaks by 2-5 %. The recovered
+surface maxima lie 0.3-2.8 % below the nodal ones (the nodal maxima are maxima of scattered
+values and carry the scatter's upper half); the ISO-line values from 4.0 % below to 0.9 %
+above them (the line's points fall between nodes, where the fit may pass above the nodal
+values' linear interpolation).
 
 Pure numpy; the same inputs give the same values on every rank.
 """
