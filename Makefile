@@ -341,8 +341,8 @@ docs: $(STAMP) ## the docs site: docs/_build/html/index.html
 	$(VENV)/bin/sphinx-build -W --keep-going -q -b html docs docs/_build/html
 
 lint: $(STAMP) ## ruff
-	$(VENV)/bin/ruff check $(PACKAGES) tests
-	$(VENV)/bin/ruff format --check $(PACKAGES) tests
+	$(VENV)/bin/ruff check $(PACKAGES) tests docs
+	$(VENV)/bin/ruff format --check $(PACKAGES) tests docs
 
 clean: ## remove results and caches, including cached meshes (keeps the virtualenv)
 	rm -rf $(RESULTS) .cache .pytest_cache .ruff_cache

@@ -409,9 +409,17 @@ def parse_gearset(
             raise CaseError(f"{source}: gears.{gname}: {exc}") from exc
     modifications = {k: v for k, v in modifications.items() if not v.is_zero}
     gs = GearSet(
-        name, kind, torque, planets, tuple(power_path), gears, tuple(meshes), str(path), data,
+        name,
+        kind,
+        torque,
+        planets,
+        tuple(power_path),
+        gears,
+        tuple(meshes),
+        str(path),
+        data,
         modifications,
-    )  # fmt: skip
+    )
     _check_layout(gs, source)
     return gs
 

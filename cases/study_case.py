@@ -268,8 +268,15 @@ class StudyCase:
 
 
 _TOP_FIELDS = (
-    "name", "gearset", "description", "bearing", "material", "model", "numerics", "system"
-)  # fmt: skip
+    "name",
+    "gearset",
+    "description",
+    "bearing",
+    "material",
+    "model",
+    "numerics",
+    "system",
+)
 
 
 def _names(cls) -> tuple[str, ...]:

@@ -177,10 +177,25 @@ def form_factors(gear: GearSpec, eps_alpha: float | None = None, load_at: str = 
     y_f = 6.0 * (h_fe / m) * math.cos(alpha_fen) / ((s_fn / m) ** 2 * math.cos(a_n))
     ell, q_s, y_s = _stress_correction(s_fn, h_fe, rho_f)
     return dict(
-        z_n=z_n, x_E=x, E=e, G=g, H=h, theta=theta, s_Fn=s_fn, rho_F=rho_f, h_Fe=h_fe,
-        d_en=d_en, alpha_en=alpha_en, gamma_e=float(gamma_e), alpha_Fen=float(alpha_fen),
-        L=ell, q_s=q_s, Y_F=float(y_f), Y_S=y_s, iterations=its,
-    )  # fmt: skip
+        z_n=z_n,
+        x_E=x,
+        E=e,
+        G=g,
+        H=h,
+        theta=theta,
+        s_Fn=s_fn,
+        rho_F=rho_f,
+        h_Fe=h_fe,
+        d_en=d_en,
+        alpha_en=alpha_en,
+        gamma_e=float(gamma_e),
+        alpha_Fen=float(alpha_fen),
+        L=ell,
+        q_s=q_s,
+        Y_F=float(y_f),
+        Y_S=y_s,
+        iterations=its,
+    )
 
 
 def _internal_form_factors(gear: GearSpec, eps_alpha, load_at: str) -> dict:
@@ -201,9 +216,21 @@ def _internal_form_factors(gear: GearSpec, eps_alpha, load_at: str) -> dict:
     y_form = 6.0 * (h_fe / m) * math.cos(alpha_en) / ((s_fn / m) ** 2 * math.cos(a_n))
     ell, q_s, y_s = _stress_correction(s_fn, h_fe, rho)
     return dict(
-        z_n=z_n, x_E=x, s_Fn=s_fn, rho_F=rho, h_Fe=h_fe, y_F=y_f, y_e=y_e, d_en=d_en,
-        alpha_en=alpha_en, alpha_Fen=alpha_en, L=ell, q_s=q_s, Y_F=y_form, Y_S=y_s,
-    )  # fmt: skip
+        z_n=z_n,
+        x_E=x,
+        s_Fn=s_fn,
+        rho_F=rho,
+        h_Fe=h_fe,
+        y_F=y_f,
+        y_e=y_e,
+        d_en=d_en,
+        alpha_en=alpha_en,
+        alpha_Fen=alpha_en,
+        L=ell,
+        q_s=q_s,
+        Y_F=y_form,
+        Y_S=y_s,
+    )
 
 
 EDITIONS = (2006, 2019)
@@ -240,8 +267,7 @@ def nominal_root_stress(
     b = min(gear.face_width, mate.face_width + 2.0 * m)
     y_beta = helix_factor(pair.overlap_ratio, gear.helix_angle, edition)
     sigma = f_t / (b * m) * f["Y_F"] * f["Y_S"] * y_beta
-    return f | dict(F_t=f_t, b=b, Y_beta=y_beta, edition=edition, Y_B=1.0, Y_DT=1.0,
-                    sigma_F0=sigma)  # fmt: skip
+    return f | dict(F_t=f_t, b=b, Y_beta=y_beta, edition=edition, Y_B=1.0, Y_DT=1.0, sigma_F0=sigma)
 
 
 def fillet_tangent_point(

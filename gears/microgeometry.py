@@ -71,8 +71,10 @@ class FlankModifications:
         for f in ("lead_crown_um", "tip_relief_um", "end_relief_um"):
             self._number(f, 0.0, MAX_MODIFICATION_UM)
         self._number("lead_slope_um", -MAX_MODIFICATION_UM, MAX_MODIFICATION_UM)
-        for f, amount in (("tip_relief_diameter", "tip_relief_um"),
-                          ("end_relief_length", "end_relief_um")):  # fmt: skip
+        for f, amount in (
+            ("tip_relief_diameter", "tip_relief_um"),
+            ("end_relief_length", "end_relief_um"),
+        ):
             if getattr(self, f) is not None:
                 self._number(f, 0.0, math.inf, lo_open=True)
             elif getattr(self, amount) > 0.0:

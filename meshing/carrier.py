@@ -75,8 +75,10 @@ class CarrierSpec:
     def pin_centres(self) -> list[np.ndarray]:
         """(x, y) of each pin centre (mm), in pin order."""
         radii = self.pin_radii or (self.pin_circle_radius,) * len(self.pin_angles)
-        return [r * np.array([math.cos(a), math.sin(a)]) for r, a in
-                zip(radii, self.pin_angles, strict=True)]  # fmt: skip
+        return [
+            r * np.array([math.cos(a), math.sin(a)])
+            for r, a in zip(radii, self.pin_angles, strict=True)
+        ]
 
     def post_centres(self) -> list[np.ndarray]:
         """(x, y) of each post centre (mm)."""
@@ -120,19 +122,22 @@ class CarrierSpec:
         r_pin = 0.5 * self.pin_diameter
         radii = [float(np.hypot(*c)) for c in self.pin_centres()]
         need(
-            all(self.plate_inner_radius + r_pin < r < self.plate_outer_radius - r_pin
-                for r in radii),
+            all(
+                self.plate_inner_radius + r_pin < r < self.plate_outer_radius - r_pin for r in radii
+            ),
             "pin_diameter",
             "pins must lie inside the plates (inner radius + pin radius < pin centre radius "
             "< outer radius - pin radius)",
-        )  # fmt: skip
+        )
         need(
-            all(self.plate_inner_radius < float(np.hypot(*c)) - self.post_radius
+            all(
+                self.plate_inner_radius < float(np.hypot(*c)) - self.post_radius
                 and float(np.hypot(*c)) + self.post_radius < self.plate_outer_radius
-                for c in self.post_centres()),
+                for c in self.post_centres()
+            ),
             "post_radius",
             "posts must lie inside the plates",
-        )  # fmt: skip
+        )
 
     def post_angles(self) -> list[float]:
         if self.posts is not None:
@@ -146,8 +151,9 @@ class CarrierSpec:
     def params(self) -> dict:
         """Cache key: the fields (the optional per-pin radii and posts only when given, so a
         single-pinion carrier keeps its key) and the mesher version."""
-        d = {k: v for k, v in asdict(self).items()
-             if not (k in ("pin_radii", "posts") and v is None)}  # fmt: skip
+        d = {
+            k: v for k, v in asdict(self).items() if not (k in ("pin_radii", "posts") and v is None)
+        }
         return {**d, "version": MESHER_VERSION}
 
 
@@ -248,8 +254,9 @@ def sun_rp_angle(gearset) -> float:
     return triangle_angles(a1, a2, a3).psi
 
 
-def place_posts(spec: CarrierSpec, branches: list[list[int]], tips: list[float],
-                samples: int = 121) -> tuple[tuple[float, float], ...]:  # fmt: skip
+def place_posts(
+    spec: CarrierSpec, branches: list[list[int]], tips: list[float], samples: int = 121
+) -> tuple[tuple[float, float], ...]:
     """One post per branch, in the angular gap from the branch's last pin to the next
     branch's first pin: the (angle, radius) inside the plates that maximises the clearance
     c = min_i (|p - c_i| - r_tip,i) - post_radius to every pin's pinion tip circle (sampled

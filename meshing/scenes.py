@@ -283,8 +283,9 @@ def _unwrap(angle: float, ref: float | None, teeth: int, omega: int) -> float:
     return ref + omega * ((omega * (angle - ref) + slack) % pitch - slack)
 
 
-def _place_branch(gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, radial_offset,
-                  angle_ref):  # fmt: skip
+def _place_branch(
+    gearset, sun, sun_pl, psi, names, offsets, pin_kw, rp_side, radial_offset, angle_ref
+):
     """Pinions of one branch placed in mesh along the power path, their zones, and the ring
     placement angle the branch asks for. The sun turns counter-clockwise (omega = +1); each
     external mesh reverses the sense, the internal mesh keeps it. ``angle_ref``: body ->
@@ -323,14 +324,14 @@ def _cycle_cover(gearset, roll: float, all_planets: bool, options: dict):
     cycle, angles = cycle_angles(gearset, roll)
     key = repr((gearset, cycle, all_planets, sorted(options.items())))
     if key not in _CYCLE_MEMO:
-        first = planetary_scene(gearset, angles[0], all_planets, cycle_bodies=False,
-                                **options)  # fmt: skip
+        first = planetary_scene(gearset, angles[0], all_planets, cycle_bodies=False, **options)
         ref = {g.name: g.placement.angle for g in first.gears}
         cover: dict[str, set[int]] = {}
         fine: dict[str, set[tuple[int, str]]] = {}
         for angle in angles:
-            sc = planetary_scene(gearset, angle, all_planets, cycle_bodies=False,
-                                 _angle_ref=ref, **options)  # fmt: skip
+            sc = planetary_scene(
+                gearset, angle, all_planets, cycle_bodies=False, _angle_ref=ref, **options
+            )
             for g in sc.gears:
                 cover.setdefault(g.name, set()).update(g.contact_teeth)
             for name, fl in tension_fillets(sc.zones).items():
@@ -389,9 +390,14 @@ def planetary_scene(
     spacing; a branch out of phase with the ring raises (assembly condition).
     """
     roll = _validate_roll(roll)
-    options = {"phase_offsets": phase_offsets, "pinion_radial_offset": pinion_radial_offset,
-               "pin_diameter": pin_diameter, "carrier": carrier, "rp_side": rp_side,
-               "planet_angles_deg": planet_angles_deg}  # fmt: skip
+    options = {
+        "phase_offsets": phase_offsets,
+        "pinion_radial_offset": pinion_radial_offset,
+        "pin_diameter": pin_diameter,
+        "carrier": carrier,
+        "rp_side": rp_side,
+        "planet_angles_deg": planet_angles_deg,
+    }
     cover: dict[str, frozenset[int]] = {}
     fine: dict[str, frozenset[tuple[int, str]]] = {}
     angle_ref = dict(_angle_ref or {})
@@ -446,8 +452,14 @@ def planetary_scene(
                 f"deg is out of phase with the ring by {mis * ring.base_radius * 1e3:.2f} um "
                 "(assembly condition)"
             )
-    ring_pl = Placement(_unwrap(ring_angles[0] + offsets.pop(path[-1], 0.0),
-                                angle_ref.get(path[-1]), ring.teeth, ring_omega))  # fmt: skip
+    ring_pl = Placement(
+        _unwrap(
+            ring_angles[0] + offsets.pop(path[-1], 0.0),
+            angle_ref.get(path[-1]),
+            ring.teeth,
+            ring_omega,
+        )
+    )
     if offsets:
         raise MeshingError(f"phase_offsets: unknown bodies {sorted(offsets)}")
     gears = [
@@ -545,9 +557,20 @@ def system_scene(gearset, roll: float = 0.0, **options) -> Scene:
 
 
 def _assemble_scene(
-    name, gearset, roll, gears, zones, full, radius_kw, left_out, carrier, notes, branches, cover,
+    name,
+    gearset,
+    roll,
+    gears,
+    zones,
+    full,
+    radius_kw,
+    left_out,
+    carrier,
+    notes,
+    branches,
+    cover,
     fine,
-):  # fmt: skip
+):
     by_name = {g.name: g for g in gears}
     # Contact lines and the teeth in contact.
     zones_done = []
@@ -566,10 +589,16 @@ def _assemble_scene(
         fine = {}
         notes = (*notes, "root fillets coarse (fillet_far): the root stress only on submodels")
     placed = [
-        _finish_gear(g, sorted(contact[g.name]), cover.get(g.name, set()), full[g.name],
-                     radius_kw[g.name], fine.get(g.name, set()) | here.get(g.name, set()))
+        _finish_gear(
+            g,
+            sorted(contact[g.name]),
+            cover.get(g.name, set()),
+            full[g.name],
+            radius_kw[g.name],
+            fine.get(g.name, set()) | here.get(g.name, set()),
+        )
         for g in gears
-    ]  # fmt: skip
+    ]
     by_name = {g.name: g for g in placed}
     for zn in zones_done:
         _check_phase(name, zn, by_name[zn.driver], by_name[zn.driven])

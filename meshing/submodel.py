@@ -63,8 +63,13 @@ def max_read_teeth(gear) -> int:
     return gear.teeth // 2 - 2 * SUBMODEL_MARGIN
 
 
-def submodel_body(gb: GearBody, n_read: int, side: str, depth: float = SUBMODEL_DEPTH,
-                  geometry_order: int | None = None) -> GearBody:  # fmt: skip
+def submodel_body(
+    gb: GearBody,
+    n_read: int,
+    side: str,
+    depth: float = SUBMODEL_DEPTH,
+    geometry_order: int | None = None,
+) -> GearBody:
     """The canonical sector of ``gb``'s gear for ``n_read`` consecutive read teeth whose
     ``side`` (``"pos"``/``"neg"``) fillets are in tension (see the module docstring), of
     ``geometry_order`` (default :data:`SUBMODEL_GEOMETRY_ORDER`, read at the call)."""
@@ -85,8 +90,7 @@ def submodel_body(gb: GearBody, n_read: int, side: str, depth: float = SUBMODEL_
     else:
         radii = {"inner_radius": max(gb.inner_radius, g.root_radius - depth * m)}
     order = SUBMODEL_GEOMETRY_ORDER if geometry_order is None else geometry_order
-    return replace(gb, first_tooth=0, n_teeth=n, fine_fillets=fine, geometry_order=order,
-                   **radii)  # fmt: skip
+    return replace(gb, first_tooth=0, n_teeth=n, fine_fillets=fine, geometry_order=order, **radii)
 
 
 def sector_turn(gear, first_read: int) -> float:

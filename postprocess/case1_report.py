@@ -72,9 +72,11 @@ def write_report(results: Path) -> Path:
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, s in runs.items():
-        head = (f"| {name} | {level_text(s)} | {len(s['positions'])} | {s['dofs']} | "
-                f"{s['ZS']:+.2f}{plus_minus(s, 'ZS', '.2f')} | "
-                f"{s['ZR']:+.2f}{plus_minus(s, 'ZR', '.2f')} ")  # fmt: skip
+        head = (
+            f"| {name} | {level_text(s)} | {len(s['positions'])} | {s['dofs']} | "
+            f"{s['ZS']:+.2f}{plus_minus(s, 'ZS', '.2f')} | "
+            f"{s['ZR']:+.2f}{plus_minus(s, 'ZR', '.2f')} "
+        )
         for i, q in enumerate(MOMENTS):
             at_z, conc = s["analytic"]["at_fe_ZS_ZR"][q], s["analytic"]["concentrated"][q]
             first = head if i == 0 else "| | | | | | "
@@ -108,15 +110,18 @@ def write_report(results: Path) -> Path:
         cyc, m = s["contact_stress_cycle"], s["contact_stress_mean_loaded"]
         fe, iso = reported_root_stress(s)[1], s["bending_stress_iso6336_nominal"]
         root = [
-            f"{fe[k]:.0f} / {iso[k]:.0f}" if fe.get(k) and iso.get(k) else
-            (f"{fe[k]:.0f} / -" if fe.get(k) else "-")
+            f"{fe[k]:.0f} / {iso[k]:.0f}"
+            if fe.get(k) and iso.get(k)
+            else (f"{fe[k]:.0f} / -" if fe.get(k) else "-")
             for k in ("sun", "pinion_sun_side", "pinion_ring_side", "ring")
-        ]  # fmt: skip
+        ]
         contact = [
-            " / ".join(_mpa(v) for v in (cyc[k].get("interior_p_max_MPa"),
-                                          cyc[k].get("edge_p_max_MPa"), m.get(k)))
+            " / ".join(
+                _mpa(v)
+                for v in (cyc[k].get("interior_p_max_MPa"), cyc[k].get("edge_p_max_MPa"), m.get(k))
+            )
             for k in ("sun_pinion", "pinion_ring")
-        ]  # fmt: skip
+        ]
         lines.append(f"| {name} | " + " | ".join(contact) + " | " + " | ".join(root) + " |")
     lines += ["", *contact_section(runs, ("sun_pinion", "pinion_ring"), list(runs))]
     lines += ["", *root_section(runs, ROOT_KEYS, list(runs))]
@@ -125,8 +130,17 @@ def write_report(results: Path) -> Path:
         lines += ["", "## Discretisation error (convergence study)", "", *conv]
     lines += ["", "## Trends against the paper (section 7)", ""]
     lines += _trends(runs)
-    lines += ["", "## Plots", "", "![moments](moments_vs_tilt.png)", "",
-              "![offsets](offsets_vs_tilt.png)", "", "Contact patterns:", ""]  # fmt: skip
+    lines += [
+        "",
+        "## Plots",
+        "",
+        "![moments](moments_vs_tilt.png)",
+        "",
+        "![offsets](offsets_vs_tilt.png)",
+        "",
+        "Contact patterns:",
+        "",
+    ]
     lines += [f"- {n}: ![{n}](../{n}/contact_patterns.png)" for n in runs]
     _plots(runs, tilt, out)
     path = out / "report.md"
@@ -191,8 +205,12 @@ def _plot_against_tilt(runs, tilt, quantities, ylabel, title, path: Path) -> Non
     steel = [n for n in ("1-GA", "1-GB", "1-GC") if n in runs]
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for q, mk in zip(quantities, "osd^", strict=False):
-        ax.semilogx([tilt[n] for n in steel], [runs[n][q] for n in steel], marker=mk,
-                    label=f"{q} (FE, steel)")  # fmt: skip
+        ax.semilogx(
+            [tilt[n] for n in steel],
+            [runs[n][q] for n in steel],
+            marker=mk,
+            label=f"{q} (FE, steel)",
+        )
         if "1-GB-R" in runs:
             ax.plot(tilt["1-GB-R"], runs["1-GB-R"][q], marker=mk, color="k", ls="none")
     ax.axhline(0, color="0.6", lw=0.8)
@@ -207,9 +225,15 @@ def _plot_against_tilt(runs, tilt, quantities, ylabel, title, path: Path) -> Non
 
 def _plots(runs: dict, tilt: dict, out: Path) -> None:
     moments_title = "Case 1 pinion moments (black: 1-GB-R, gears 10x steel)"
-    _plot_against_tilt(runs, tilt, MOMENTS, "moment (N m)", moments_title,
-                       out / "moments_vs_tilt.png")  # fmt: skip
+    _plot_against_tilt(
+        runs, tilt, MOMENTS, "moment (N m)", moments_title, out / "moments_vs_tilt.png"
+    )
     offsets_label = "load centroid offset from mid face (mm)"
-    _plot_against_tilt(runs, tilt, ("ZS", "ZR"), offsets_label,
-                       "Case 1 load centroids (black: 1-GB-R)",
-                       out / "offsets_vs_tilt.png")  # fmt: skip
+    _plot_against_tilt(
+        runs,
+        tilt,
+        ("ZS", "ZR"),
+        offsets_label,
+        "Case 1 load centroids (black: 1-GB-R)",
+        out / "offsets_vs_tilt.png",
+    )

@@ -128,13 +128,22 @@ def _same_set(geometry: dict, inp: PlanetaryInput, geo, fz) -> bool:
     form agrees (centre distances, torque, operating radii and pressure angles, the axial
     forces, which carry the helix angle); centre distances and torque alone let a set with
     another helix angle take the paper's Table 5."""
-    mine = [*inp.centre_distances, inp.torque_per_branch, geo.r_sp_sun, geo.r_sp_rp,
-            geo.r_rp_sp, geo.r_rp_ring, *(math.degrees(a) for a in (geo.a1, geo.a2, geo.a3)),
-            *(getattr(fz, k) for k in sorted(geometry["axial_forces"]))]  # fmt: skip
-    theirs = [*geometry["centre_distances"], geometry["torque_per_branch"],
-              *(geometry[k] for k in ("R_SP_SUN", "R_SP_RP", "R_RP_SP", "R_RP_RING", "a1",
-                                      "a2", "a3")),
-              *(geometry["axial_forces"][k] for k in sorted(geometry["axial_forces"]))]  # fmt: skip
+    mine = [
+        *inp.centre_distances,
+        inp.torque_per_branch,
+        geo.r_sp_sun,
+        geo.r_sp_rp,
+        geo.r_rp_sp,
+        geo.r_rp_ring,
+        *(math.degrees(a) for a in (geo.a1, geo.a2, geo.a3)),
+        *(getattr(fz, k) for k in sorted(geometry["axial_forces"])),
+    ]
+    theirs = [
+        *geometry["centre_distances"],
+        geometry["torque_per_branch"],
+        *(geometry[k] for k in ("R_SP_SUN", "R_SP_RP", "R_RP_SP", "R_RP_RING", "a1", "a2", "a3")),
+        *(geometry["axial_forces"][k] for k in sorted(geometry["axial_forces"])),
+    ]
     return len(mine) == len(theirs) and np.allclose(mine, theirs, rtol=1e-9, atol=1e-9)
 
 
@@ -280,10 +289,13 @@ def _centroid_section(runs: dict, singles: dict) -> list[str]:
         "RP against SP in the SP-RP plane of action times the face width (the SP-RP",
         "misalignment the bearings let through).",
         "",
-        "| case | " + " | ".join(f"Z {w}" for _, w, _, _ in SIDES[:2] + SIDES[3:])
-        + " | " + " | ".join(f"s {w}" for _, w, _, _ in SIDES) + " | f_ma SP-RP (um) |",
+        "| case | "
+        + " | ".join(f"Z {w}" for _, w, _, _ in SIDES[:2] + SIDES[3:])
+        + " | "
+        + " | ".join(f"s {w}" for _, w, _, _ in SIDES)
+        + " | f_ma SP-RP (um) |",
         "|---|---|---|---|---|---|---|---|---|",
-    ]  # fmt: skip
+    ]
     for name in _ordered(runs):
         s = runs[name]
         off = s["mesh_offsets_mm"]
@@ -687,9 +699,11 @@ def _patterns_section(runs: dict, results: Path, out: Path) -> list[str]:
         folder = results / name
         lines.append(f"### {name}")
         lines.append("")
-        for pic, what in (("contact_patterns.png", "load along the contact lines"),
-                          ("flank_patterns.png", "flank pressure"),
-                          ("loaded_scene.png", "loaded scene")):  # fmt: skip
+        for pic, what in (
+            ("contact_patterns.png", "load along the contact lines"),
+            ("flank_patterns.png", "flank pressure"),
+            ("loaded_scene.png", "loaded scene"),
+        ):
             if (folder / pic).is_file():
                 lines.append(f"![{name} {what}]({_rel(folder / pic, out)})")
                 lines.append("")
@@ -704,27 +718,61 @@ def _fig6(runs: dict, ref: dict, path: Path) -> None:
     the gear set, N m), with the 2-A and 2-B points and the FE means."""
     geo, fz = ref["geo"], double_pinion_axial_forces(ref["inp"])
     ang = np.radians(np.linspace(0.0, 180.0, 361))
-    sun = [dp.double_pinion_moments(fz, dataclasses.replace(geo, theta=t))["M_LOA_SP_SUN"]
-           for t in ang]  # fmt: skip
-    ring = [-dp.double_pinion_moments(fz, dataclasses.replace(geo, phi=p))["M_LOA_RP_RING"]
-            for p in ang]  # fmt: skip
+    sun = [
+        dp.double_pinion_moments(fz, dataclasses.replace(geo, theta=t))["M_LOA_SP_SUN"] for t in ang
+    ]
+    ring = [
+        -dp.double_pinion_moments(fz, dataclasses.replace(geo, phi=p))["M_LOA_RP_RING"] for p in ang
+    ]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
     for ax, curve, op, key, sign, xl, t5key in (
-        (axes[0], sun, geo.theta, "M_LOA_sun_SP", 1.0, "theta (deg), at the SP centre",
-         "M_LOA_SP_SUN"),
-        (axes[1], ring, geo.phi, "M_LOA_RP_ring", -1.0, "phi (deg), at the RP centre",
-         "M_LOA_RP_RING"),
-    ):  # fmt: skip
+        (
+            axes[0],
+            sun,
+            geo.theta,
+            "M_LOA_sun_SP",
+            1.0,
+            "theta (deg), at the SP centre",
+            "M_LOA_SP_SUN",
+        ),
+        (
+            axes[1],
+            ring,
+            geo.phi,
+            "M_LOA_RP_ring",
+            -1.0,
+            "phi (deg), at the RP centre",
+            "M_LOA_RP_RING",
+        ),
+    ):
         ax.plot(np.degrees(ang), curve, color="0.3", label="closed form (section 5)")
-        ax.plot(math.degrees(op), sign * ref["2-B"][t5key], "s", mfc="none", mec="k", ms=9,
-                label="Table 5, 2-B")  # fmt: skip
-        ax.plot(180.0 if sign > 0 else 0.0, sign * ref["2-A"][t5key], "D", mfc="none", mec="k",
-                label="2-A (collinear, analytic only)")  # fmt: skip
+        ax.plot(
+            math.degrees(op),
+            sign * ref["2-B"][t5key],
+            "s",
+            mfc="none",
+            mec="k",
+            ms=9,
+            label="Table 5, 2-B",
+        )
+        ax.plot(
+            180.0 if sign > 0 else 0.0,
+            sign * ref["2-A"][t5key],
+            "D",
+            mfc="none",
+            mec="k",
+            label="2-A (collinear, analytic only)",
+        )
         for i, n in enumerate(_ordered(runs)):
             s = runs[n]
             ax.plot(math.degrees(op), sign * s[key], "o", color=f"C{i}", label=f"{n} FE")
-            ax.plot(math.degrees(op), sign * s["analytic"]["at_fe_centroids"][key], "x",
-                    color=f"C{i}", label=f"{n} closed form @ FE Z")  # fmt: skip
+            ax.plot(
+                math.degrees(op),
+                sign * s["analytic"]["at_fe_centroids"][key],
+                "x",
+                color=f"C{i}",
+                label=f"{n} closed form @ FE Z",
+            )
         ax.set_xlabel(xl)
         ax.set_xlim(-5, 185)
         ax.set_xticks(np.arange(0, 181, 30))
@@ -752,8 +800,12 @@ def _differential_plot(runs: dict, ref: dict, path: Path) -> None:
     for i, n in enumerate(names):
         d = runs[n]["sp_rp_differential"]
         sd = d["sides"]
-        steps = [sd["sun-SP_SP"]["from_Z"], sd["SP-RP_SP"]["from_Z"] + sd["SP-RP_RP"]["from_Z"],
-                 sd["RP-ring_RP"]["from_Z"], d["from_s"]]  # fmt: skip
+        steps = [
+            sd["sun-SP_SP"]["from_Z"],
+            sd["SP-RP_SP"]["from_Z"] + sd["SP-RP_RP"]["from_Z"],
+            sd["RP-ring_RP"]["from_Z"],
+            d["from_s"],
+        ]
         level = d["D_pitch"]
         x0 = np.arange(len(labels)) + (i - (len(names) - 1) / 2) * width
         ax.bar(x0[0], level, width, color=f"C{i}", alpha=0.5, label=n)
@@ -765,10 +817,21 @@ def _differential_plot(runs: dict, ref: dict, path: Path) -> None:
         rolls = [p["roll"] for p in runs[n]["positions"]]
         pitch = _sun_pitch(runs[n])  # the cycle, not the first step: a failed position
         frac = [r / pitch for r in rolls]
-        bx.plot(frac, [p["M_LOA_SPRP_diff"] for p in runs[n]["positions"]], "o-", color=f"C{i}",
-                label=f"{n} D")  # fmt: skip
-        bx2.plot(frac, [p["Z_SPRP"] for p in runs[n]["positions"]], "s--", color=f"C{i}",
-                 mfc="none", label=f"{n} Z_SPRP")  # fmt: skip
+        bx.plot(
+            frac,
+            [p["M_LOA_SPRP_diff"] for p in runs[n]["positions"]],
+            "o-",
+            color=f"C{i}",
+            label=f"{n} D",
+        )
+        bx2.plot(
+            frac,
+            [p["Z_SPRP"] for p in runs[n]["positions"]],
+            "s--",
+            color=f"C{i}",
+            mfc="none",
+            label=f"{n} Z_SPRP",
+        )
     ax.axhline(d_t5, color="k", lw=0.8, ls="--")
     ax.set_ylim(top=1.1 * top)
     ax.set_xticks(np.arange(len(labels)), labels, fontsize=8)
@@ -782,8 +845,14 @@ def _differential_plot(runs: dict, ref: dict, path: Path) -> None:
     bx.set_title("over the mesh cycle")
     handles = bx.get_legend_handles_labels()
     handles2 = bx2.get_legend_handles_labels()
-    bx.legend(handles[0] + handles2[0], handles[1] + handles2[1], fontsize=7, ncol=3,
-              loc="upper center", bbox_to_anchor=(0.5, -0.16))  # fmt: skip
+    bx.legend(
+        handles[0] + handles2[0],
+        handles[1] + handles2[1],
+        fontsize=7,
+        ncol=3,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.16),
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)

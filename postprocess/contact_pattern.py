@@ -64,8 +64,7 @@ def _mesh_data(study, positions, mesh, hz, edges) -> dict:
             label += f"\nring: edge cell, up to {edge_max:.0f} MPa"
     else:
         top, label = float(v.max()), "line load (N/mm)"
-    return {"z": z, "s": s, "v": v, "edge": edge, "zone": zone, "top": top or 1.0,
-            "label": label}  # fmt: skip
+    return {"z": z, "s": s, "v": v, "edge": edge, "zone": zone, "top": top or 1.0, "label": label}
 
 
 def draw_contact_patterns(study, positions: list[dict], out_dir: Path) -> list[Path]:
@@ -75,8 +74,10 @@ def draw_contact_patterns(study, positions: list[dict], out_dir: Path) -> list[P
     edges = [edge_points(study.gearset, p) for p in positions]
     data = {m: _mesh_data(study, positions, m, hz, edges) for m in meshes}
     # one scale per kind of value: line loads of all line meshes, pressures of all zone ones
-    tops = {k: max((d["top"] for d in data.values() if d["zone"] == k), default=1.0)
-            for k in (False, True)}  # fmt: skip
+    tops = {
+        k: max((d["top"] for d in data.values() if d["zone"] == k), default=1.0)
+        for k in (False, True)
+    }
     paths = []
 
     def panel(ax, mesh):
@@ -91,11 +92,17 @@ def draw_contact_patterns(study, positions: list[dict], out_dir: Path) -> list[P
             ax.scatter(d["z"][off], d["s"][off], s=2, c="0.85", lw=0)
             on = np.flatnonzero(~off)
             on = on[np.argsort(d["v"][on])]  # the highest pressures on top
-            sc = ax.scatter(d["z"][on], d["s"][on], c=d["v"][on], s=7, cmap=CMAP, norm=norm,
-                            lw=0)  # fmt: skip
+            sc = ax.scatter(d["z"][on], d["s"][on], c=d["v"][on], s=7, cmap=CMAP, norm=norm, lw=0)
             ring = on[d["edge"][on] & (d["v"][on] > norm.vmax)]
-            ax.scatter(d["z"][ring], d["s"][ring], s=40, facecolors="none", edgecolors="tab:cyan",
-                       lw=1.2, label="edge cell above the scale")  # fmt: skip
+            ax.scatter(
+                d["z"][ring],
+                d["s"][ring],
+                s=40,
+                facecolors="none",
+                edgecolors="tab:cyan",
+                lw=1.2,
+                label="edge cell above the scale",
+            )
         else:
             sc = ax.scatter(d["z"], d["s"], c=d["v"], s=14, cmap=CMAP, norm=norm)
         centroid = float(np.mean([p["meshes"][mesh]["on"][pinion]["Z_mm"] for p in positions]))
@@ -106,8 +113,9 @@ def draw_contact_patterns(study, positions: list[dict], out_dir: Path) -> list[P
         ax.set_ylabel("s, roll position from pitch point (mm)")
         grid = " (zone grid)" if d["zone"] else ""
         ax.set_title(f"{study.name}: {mesh} mesh{grid}, {len(positions)} positions")
-        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=3, fontsize=8,
-                  frameon=False)  # fmt: skip
+        ax.legend(
+            loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=3, fontsize=8, frameon=False
+        )
         return sc
 
     def colorbar(fig, sc, ax, label, clipped):

@@ -165,19 +165,26 @@ def richardson(
         )
 
     if big <= zero_scale:  # e.g. Mz of a pinion free to spin: round-off, nothing converges
-        return fallback("zero", "below the zero scale on every grid: the round-off of a "
-                        "quantity that vanishes", None)  # fmt: skip
+        return fallback(
+            "zero",
+            "below the zero scale on every grid: the round-off of a quantity that vanishes",
+            None,
+        )
     if spread <= SAME_RTOL * big:
         return fallback("mesh-independent", "the same value on every grid", None)
     floor = noise * big
     if spread <= floor:
         return fallback("mesh-independent", "every grid within the solver's noise", None)
     if abs(e21) <= floor:
-        return fallback("stagnant", "the two finer grids agree within the solver's noise: no "
-                        "order", None)  # fmt: skip
+        return fallback(
+            "stagnant", "the two finer grids agree within the solver's noise: no order", None
+        )
     if abs(e32) <= floor:
-        return fallback("divergent", "the coarser pair agrees within the solver's noise but the "
-                        "finer does not", None)  # fmt: skip
+        return fallback(
+            "divergent",
+            "the coarser pair agrees within the solver's noise but the finer does not",
+            None,
+        )
     if e21 * e32 < 0.0:
         return fallback("oscillatory", "changes alternate in sign: no extrapolation", None)
     if e21 == 0.0:  # the two finer grids agree exactly, the coarse one does not
@@ -242,11 +249,27 @@ def two_grid(
     e21 = f[coarse] - f[fine]
     big = max(abs(v) for v in f)
     if big <= zero_scale:
-        return Richardson("zero", None, None, (None, None), (None, None), (abs(e21),) * 2, None,
-                          "below the zero scale on both grids: round-off")  # fmt: skip
+        return Richardson(
+            "zero",
+            None,
+            None,
+            (None, None),
+            (None, None),
+            (abs(e21),) * 2,
+            None,
+            "below the zero scale on both grids: round-off",
+        )
     if abs(e21) <= SAME_RTOL * big:
-        return Richardson("mesh-independent", None, None, (None, None), (0.0, 0.0), (0.0, 0.0),
-                          None, "the same value on both grids")  # fmt: skip
+        return Richardson(
+            "mesh-independent",
+            None,
+            None,
+            (None, None),
+            (0.0, 0.0),
+            (0.0, 0.0),
+            None,
+            "the same value on both grids",
+        )
     rp = r**order
     unc_abs = [0.0, 0.0]
     unc_abs[fine] = safety * abs(e21) / (rp - 1.0)
@@ -313,8 +336,10 @@ def reproduction_text(entry: Mapping) -> str:
         for kind, t in sorted((entry.get("targets") or {}).items()):
             kinds = {"stress": "stresses"}.get(kind, f"{kind}s")
             how += f"; the targeted {kinds} within {t['max_rel_diff']:.1e} ({t['key']})"
-    return (f"its run {entry.get('run')} solved again by code {entry.get('code_hash')} "
-            f"({entry.get('date')}): {how}")  # fmt: skip
+    return (
+        f"its run {entry.get('run')} solved again by code {entry.get('code_hash')} "
+        f"({entry.get('date')}): {how}"
+    )
 
 
 # ------------------------------------------------------------------ summaries and reports

@@ -253,23 +253,34 @@ def _scatter_lines(conv: dict, bare: list[str] = ()) -> list[str]:
     root stresses ``bare`` of no measurement."""
     entries = conv.get("sector_scatter") or []
     if not entries:
-        return ["", "No sector scatter is kept with this study: the submodel's U is its "
-                "ladder's alone, which may be optimistic where the ladder's values agree by "
-                "chance."]  # fmt: skip
+        return [
+            "",
+            "No sector scatter is kept with this study: the submodel's U is its "
+            "ladder's alone, which may be optimistic where the ladder's values agree by "
+            "chance.",
+        ]
     lines = []
     if bare:
-        lines += ["", "**Targeted without a measured sector scatter** (their submodel U is the "
-                  "ladder's alone; the measurements below do not hold them): "
-                  + ", ".join(bare) + "."]  # fmt: skip
+        lines += [
+            "",
+            "**Targeted without a measured sector scatter** (their submodel U is the "
+            "ladder's alone; the measurements below do not hold them): " + ", ".join(bare) + ".",
+        ]
     lines += ["", "Sector scatter measured (the largest spread per scalar is the floor):"]
     for e in entries:
-        used = "" if e.get("level") == conv.get("case_level") else (
-            f" (not used: the case level is {conv.get('case_level')})")  # fmt: skip
+        used = (
+            ""
+            if e.get("level") == conv.get("case_level")
+            else (f" (not used: the case level is {conv.get('case_level')})")
+        )
         worst = max(e["spread"].items(), key=lambda kv: kv[1], default=None)
-        lines.append(f"- driver level {e['level']}, roll {e['roll']:g}, read fillet "
-                     f"{e['fillet_mm']:g} mm, variants {', '.join(e['variants'])}, source "
-                     f"hash {e['code_hash']}" + (f"; largest {worst[0]} {worst[1]:.2%}"
-                     if worst else "") + used)  # fmt: skip
+        lines.append(
+            f"- driver level {e['level']}, roll {e['roll']:g}, read fillet "
+            f"{e['fillet_mm']:g} mm, variants {', '.join(e['variants'])}, source "
+            f"hash {e['code_hash']}"
+            + (f"; largest {worst[0]} {worst[1]:.2%}" if worst else "")
+            + used
+        )
     return lines
 
 
@@ -281,10 +292,18 @@ def _runs_code(conv: dict) -> list[str]:
         return []
     added = conv.get("added") or {}
     if added:  # the ladder's code; the added runs' is in _off_ladder
-        mine = sorted({r["reuse_key"]["code_hash"] for r in conv["runs"]
-                       if "reuse_key" in r and r.get("label") not in added})  # fmt: skip
-        return [f"The ladder's runs were solved by code {', '.join(mine)}; the reduction, "
-                f"targets and report are code {conv['code_hash']}'s.", ""]  # fmt: skip
+        mine = sorted(
+            {
+                r["reuse_key"]["code_hash"]
+                for r in conv["runs"]
+                if "reuse_key" in r and r.get("label") not in added
+            }
+        )
+        return [
+            f"The ladder's runs were solved by code {', '.join(mine)}; the reduction, "
+            f"targets and report are code {conv['code_hash']}'s.",
+            "",
+        ]
     return [
         f"Reduced again (`--reduce-only`) by code {conv['code_hash']} from runs solved by "
         f"code {', '.join(other)}: the runs' values are those of that code; the reduction, "
@@ -296,8 +315,11 @@ def _runs_code(conv: dict) -> list[str]:
 def _off_ladder(conv: dict) -> list[str]:
     """How the runs off the ladder are judged, and which were added to a record later
     (``python -m studies.convergence CASE --add-to-record L:D:F``) by which code."""
-    off = [r for r in conv["runs"] if "error" not in r and (variant(r)
-           or r.get("degree") != conv.get("ladder_degree"))]  # fmt: skip
+    off = [
+        r
+        for r in conv["runs"]
+        if "error" not in r and (variant(r) or r.get("degree") != conv.get("ladder_degree"))
+    ]
     if not off:
         return []
     lines = [
@@ -313,8 +335,10 @@ def _off_ladder(conv: dict) -> list[str]:
     added = sorted((conv.get("added") or {}).items())
     for label, a in added:
         commit = str(a.get("git_revision"))[:10]
-        lines[0] += (f" {label} was added to the record on {a.get('date')} by code "
-                     f"{a.get('code_hash')} (commit {commit}).")  # fmt: skip
+        lines[0] += (
+            f" {label} was added to the record on {a.get('date')} by code "
+            f"{a.get('code_hash')} (commit {commit})."
+        )
     if added:
         lines[0] += " The ladder's runs keep the code that solved them."
     return [*lines, ""]
@@ -337,8 +361,11 @@ def _missing_scalars(conv: dict) -> list[str]:
     failed, a grid without contact; 2B-GA's record: the ring's near-load value, not a target,
     absent at level 2): the study has no ± for them, and a targeted one fails the verdict of
     the run that lacks it (:func:`postprocess.convergence_study.recommend`)."""
-    ladder = [r for r in conv["runs"] if "error" not in r and r.get("degree") ==
-              conv.get("ladder_degree") and not variant(r)]  # fmt: skip
+    ladder = [
+        r
+        for r in conv["runs"]
+        if "error" not in r and r.get("degree") == conv.get("ladder_degree") and not variant(r)
+    ]
     have = {row_label(r): set(r.get("scalars") or {}) for r in ladder}
     every = set().union(*have.values()) if have else set()
     missing = {k: [lab for lab, keys in have.items() if k not in keys] for k in sorted(every)}
@@ -461,11 +488,15 @@ def speed_error_chart(conv: dict, path: Path) -> bool:
                 text = lab + ("*" if lab in _out_of_core(conv) else "")  # short: runs crowd
                 # a label beside one of a point within 40 % in x and 15 % in y would overlap
                 # it (2B-GA's L1P1, L1P1F2, L1P1F2R2 at 297-402 s): step it down a line
-                near = sum(1 for px, py in placed if abs(math.log(x / px)) < 0.34
-                           and abs(math.log(y / py)) < 0.14)  # fmt: skip
+                near = sum(
+                    1
+                    for px, py in placed
+                    if abs(math.log(x / px)) < 0.34 and abs(math.log(y / py)) < 0.14
+                )
                 placed.append((x, y))
-                ax.annotate(text, (x, y), textcoords="offset points", xytext=(4, 3 - 9 * near),
-                            fontsize=7)  # fmt: skip
+                ax.annotate(
+                    text, (x, y), textcoords="offset points", xytext=(4, 3 - 9 * near), fontsize=7
+                )
             ax.plot([], [], marker, color=colour, label=f"worst {kind}")
             ax.axhline(
                 targets[kind],

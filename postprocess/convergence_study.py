@@ -81,8 +81,7 @@ def holds_recovered(rows: list[dict]) -> bool:
     ladder lacks them in some run has no ladder of them, and its nodal readings must stay
     the targets, or its root stresses would have none."""
     ok = [r for r in rows if "error" not in r]
-    return bool(ok) and all(any(k.startswith(RECOVERED_PREFIXES) for k in r["scalars"])
-                            for r in ok)  # fmt: skip
+    return bool(ok) and all(any(k.startswith(RECOVERED_PREFIXES) for k in r["scalars"]) for r in ok)
 
 
 def target(key: str, recovered: bool = False) -> float | None:
@@ -152,8 +151,12 @@ def _noise(row: dict, key: str) -> float:
 
 #: the root-stress keys read on submodels, whose error splits into the driver's (the global
 #: model's level) and the submodel's (its fillet size): :func:`root_stress_split`
-SPLIT_PREFIXES = ("bending_stress.", "bending_stress_tangent.", "bending_stress_recovered.",
-                  "bending_stress_tangent_recovered.")  # fmt: skip
+SPLIT_PREFIXES = (
+    "bending_stress.",
+    "bending_stress_tangent.",
+    "bending_stress_recovered.",
+    "bending_stress_tangent_recovered.",
+)
 #: the formal order of the driver's part of a submodel's root stress (the two-grid GCI): the
 #: submodel sees the global model only through its displacement at the cut (P1: O(h^2)) and
 #: the contact forces (integrals over the flanks, like the moments, O(h^2); observed 3.7-4.2
@@ -182,8 +185,9 @@ def _ladder_record(res, labels_or_sizes, values) -> dict:
     }
 
 
-def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: float = 0.0,
-                      floor: float | None = None):  # fmt: skip
+def root_stress_split(
+    lad: list[dict], key: str, case_level: int, zero_scale: float = 0.0, floor: float | None = None
+):
     """The error of a root stress read on a submodel (:mod:`solvers.root_submodel`), split
     into its two sources, or None where the runs do not hold the two ladders
     (:func:`studies.convergence.submodel_levels`):
@@ -224,8 +228,9 @@ def root_stress_split(lad: list[dict], key: str, case_level: int, zero_scale: fl
     labels = [row_label(r) for r in lad]
     h_drv = [r["h_mm"]["fine"] for r in lad]
     if len(lad) >= 3:
-        drv = richardson(h_drv[-3:], drv_vals[-3:], p_cap=P_CAP, zero_scale=zero_scale,
-                         noise=CG_NOISE)  # fmt: skip
+        drv = richardson(
+            h_drv[-3:], drv_vals[-3:], p_cap=P_CAP, zero_scale=zero_scale, noise=CG_NOISE
+        )
         labels, drv_vals = labels[-3:], drv_vals[-3:]
     else:
         drv = two_grid(h_drv, drv_vals, DRIVER_ORDER, zero_scale=zero_scale)
@@ -318,8 +323,9 @@ def scalar_table(
             entry.update(target=None, near_zero=True)
         split = None
         if case_level is not None and key.startswith(SPLIT_PREFIXES):
-            split = root_stress_split(lad, key, case_level, zero_scale=zs,
-                                      floor=(floors or {}).get(key))  # fmt: skip
+            split = root_stress_split(
+                lad, key, case_level, zero_scale=zs, floor=(floors or {}).get(key)
+            )
         if split is not None:
             entry.update(split)
             for r in others:
@@ -328,8 +334,7 @@ def scalar_table(
             table[key] = entry
             continue
         if len(lad) == 2:  # the third grid did not fit: Roache's two-grid GCI
-            res = two_grid([_h(r, key) for r in lad], f, _p_cap(lad[-1], key),
-                           zero_scale=zs)  # fmt: skip
+            res = two_grid([_h(r, key) for r in lad], f, _p_cap(lad[-1], key), zero_scale=zs)
             labels = [row_label(r) for r in lad]
             entry.update(
                 status=res.status,
@@ -354,8 +359,9 @@ def scalar_table(
             continue
         cap, noise = _p_cap(lad[-1], key), _noise(lad[-1], key)
         res = richardson(h, f, p_cap=cap, zero_scale=zs, noise=noise)
-        by_dof = richardson([r["dofs"] ** (-1.0 / 3.0) for r in lad], f, p_cap=cap, zero_scale=zs,
-                            noise=noise)  # fmt: skip
+        by_dof = richardson(
+            [r["dofs"] ** (-1.0 / 3.0) for r in lad], f, p_cap=cap, zero_scale=zs, noise=noise
+        )
         labels = [row_label(r) for r in lad]
         entry.update(
             status=res.status,
@@ -397,8 +403,11 @@ def _off_ladder_split(entry: dict, r: dict, key: str, f: list[float], zs: float)
     if abs(r["h_mm"]["fillet"] - sp["fillet_mm"]) < 1e-12 and abs(v) > zs:
         drv, sub = sp["driver"], sp["submodel"]
         d_ext = drv["extrapolated"]
-        u_drv = (SAFETY * abs(v - d_ext) if d_ext is not None
-                 else max(*drv["values"], v) - min(*drv["values"], v)) / abs(v)  # fmt: skip
+        u_drv = (
+            SAFETY * abs(v - d_ext)
+            if d_ext is not None
+            else max(*drv["values"], v) - min(*drv["values"], v)
+        ) / abs(v)
         u_sub = sub["uncertainty"][sub["at"].index(sp["fillet_mm"])]
         u = None if u_sub is None else u_drv + max(u_sub, floor)
         entry["uncertainty"][lab] = u
@@ -410,8 +419,9 @@ def _off_ladder_split(entry: dict, r: dict, key: str, f: list[float], zs: float)
     entry["uncertainty"][lab] = u_abs / abs(v) if abs(v) > zs else None
 
 
-def _off_ladder_runs(entry: dict, res, others: list[dict], key: str, f: list[float],
-                     zs: float) -> None:  # fmt: skip
+def _off_ladder_runs(
+    entry: dict, res, others: list[dict], key: str, f: list[float], zs: float
+) -> None:
     """Each run off the ladder (another degree, other levels' sizes) against the ladder's
     result, into ``entry``:
     its error against the extrapolation, else the spread of the ladder and its value
@@ -528,13 +538,21 @@ def _note(best: dict | None, verdicts: list[dict]) -> str:
         return "no run finished"
     by_kind = []
     for kind, tol in (("moment", MOMENT_RTOL), ("stress", STRESS_RTOL)):
-        ok = sorted((v for v in verdicts if kind in v["worst"]
-                     and v["worst"][kind]["error"] <= tol), key=lambda v: v["time_s"])  # fmt: skip
+        ok = sorted(
+            (v for v in verdicts if kind in v["worst"] and v["worst"][kind]["error"] <= tol),
+            key=lambda v: v["time_s"],
+        )
         if ok:
             by_kind.append(f"every {kind} within {tol:.0%} from {ok[0]['run']} on (the cheapest)")
         else:
-            fam = sorted({k.split(".", 1)[0] for v in verdicts for k in v["failing"]
-                          if k.split(".", 1)[0] != k})  # fmt: skip
+            fam = sorted(
+                {
+                    k.split(".", 1)[0]
+                    for v in verdicts
+                    for k in v["failing"]
+                    if k.split(".", 1)[0] != k
+                }
+            )
             by_kind.append(
                 f"no run has every {kind} within {tol:.0%}"
                 + (f" (failing: {', '.join(fam)})" if kind == "stress" and fam else "")
@@ -562,8 +580,9 @@ def reduce_study(conv: dict) -> dict:
     if "case_level" not in conv or not isinstance(conv.get("runs"), list):
         return conv
     floors = scatter_floors(conv.get("sector_scatter") or [], conv["case_level"])
-    table = scalar_table(conv["runs"], conv.get("ladder_degree", 1), conv["case_level"],
-                         floors=floors)  # fmt: skip
+    table = scalar_table(
+        conv["runs"], conv.get("ladder_degree", 1), conv["case_level"], floors=floors
+    )
     return {**conv, "scalars": table, "recommendation": recommend(conv["runs"], table)}
 
 
@@ -611,6 +630,12 @@ def compare_runs(recorded: Mapping, again: Mapping) -> dict:
             kind = scalar_kind(name)
             if kind not in targets or d > targets[kind]["max_rel_diff"]:
                 targets[kind] = {"max_rel_diff": d, "key": k}
-    return {"scalars": len(both), "identical": same, "max_rel_diff": rel, "worst": worst,
-            "targets": targets, "missing": sorted(a.keys() ^ b.keys()),
-            "dofs": [recorded.get("dofs"), again.get("dofs")]}  # fmt: skip
+    return {
+        "scalars": len(both),
+        "identical": same,
+        "max_rel_diff": rel,
+        "worst": worst,
+        "targets": targets,
+        "missing": sorted(a.keys() ^ b.keys()),
+        "dofs": [recorded.get("dofs"), again.get("dofs")],
+    }

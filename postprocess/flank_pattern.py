@@ -378,12 +378,16 @@ def mesh_flank_patterns(study, positions: list[dict], scenes=None) -> list[Flank
             gear, path = scenes[0].gear(body).gear, active_profile(pair, i)
             if zoned:
                 runs = zip(positions, scenes, hz, edges, strict=True)
-                data = [(p["meshes"][mesh], sc.gear(body).placement, h[mesh], e[mesh])
-                        for p, sc, h, e in runs]  # fmt: skip
+                data = [
+                    (p["meshes"][mesh], sc.gear(body).placement, h[mesh], e[mesh])
+                    for p, sc, h, e in runs
+                ]
                 pattern = zone_flank_pattern(gear, side, data, path)
             else:
-                data = [(p["meshes"][mesh], sc.gear(body).placement, h[mesh]["p_max"])
-                        for p, sc, h in zip(positions, scenes, hz, strict=True)]  # fmt: skip
+                data = [
+                    (p["meshes"][mesh], sc.gear(body).placement, h[mesh]["p_max"])
+                    for p, sc, h in zip(positions, scenes, hz, strict=True)
+                ]
                 pattern = flank_pattern(gear, side, data, path)
                 e_all = np.concatenate([e[mesh]["edge"] for e in edges])
                 p_all = np.concatenate([h[mesh]["p_max"] for h in hz])

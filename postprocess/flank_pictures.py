@@ -221,8 +221,16 @@ def draw_flank(ax, pattern: FlankPattern, img: FlankImage, title: str) -> None:
     else:
         txt = "no load"
     ax.set_title(title, fontsize=9.5, loc="left")
-    ax.text(1.0, 1.02, txt, transform=ax.transAxes, ha="right", va="bottom", fontsize=8.5,
-            color=CENTROID if np.isfinite(pattern.centroid_z) else "k")  # fmt: skip
+    ax.text(
+        1.0,
+        1.02,
+        txt,
+        transform=ax.transAxes,
+        ha="right",
+        va="bottom",
+        fontsize=8.5,
+        color=CENTROID if np.isfinite(pattern.centroid_z) else "k",
+    )
 
 
 def _flank_title(p: FlankPattern) -> str:
@@ -258,8 +266,11 @@ def _zoned(by_mesh: dict[str, list[FlankPattern]]) -> bool:
 def _peak(patterns) -> float:
     """Top of the colour scale: the largest pressure of the line-grid patterns, the largest
     interior pressure of the zone-grid ones (their edge cells above it take the top colour)."""
-    vals = [p.interior_max if p.grid_model == "zone" else np.nanmax(p.pressure)
-            for p in patterns if np.isfinite(p.pressure).any()]  # fmt: skip
+    vals = [
+        p.interior_max if p.grid_model == "zone" else np.nanmax(p.pressure)
+        for p in patterns
+        if np.isfinite(p.pressure).any()
+    ]
     return max(vals) if vals else 0.0
 
 
@@ -288,28 +299,45 @@ def _layout(rows: list[tuple[str, dict[str, list[FlankPattern]]]], out_png: Path
 
     for r, (label, by_mesh) in enumerate(rows):
         y_top = fig_h - head - r * (2 * cell_h + block_gap)
-        fig.text((left + 0.05) / fig_w, (y_top - cell_h) / fig_h, label, rotation=90,
-                 ha="center", va="center", fontsize=11, weight="bold")  # fmt: skip
+        fig.text(
+            (left + 0.05) / fig_w,
+            (y_top - cell_h) / fig_h,
+            label,
+            rotation=90,
+            ha="center",
+            va="center",
+            fontsize=11,
+            weight="bold",
+        )
         for c, (mesh, pats) in enumerate(by_mesh.items()):
             x = left + label_w + c * (col_w + gap_w)
             for k, p in enumerate(pats):
                 y = y_top - (k + 1) * cell_h + below
                 ax = axes(x, y, col_w, img_h)
                 draw_flank(ax, p, images[id(p)], f"{mesh} mesh: {_flank_title(p)}")
-                ax.set_xlabel(f"Z from mid face width (mm, {p.pinion} frame)", fontsize=8,
-                              labelpad=1)  # fmt: skip
+                ax.set_xlabel(
+                    f"Z from mid face width (mm, {p.pinion} frame)", fontsize=8, labelpad=1
+                )
     x_cb = left + label_w + n_cols * col_w + (n_cols - 1) * gap_w + 0.25
     cax = axes(x_cb, foot + 0.1 * body_h, 0.16, 0.8 * body_h)
-    over = any(np.nanmax(p.pressure) > norm.vmax for p in all_patterns
-               if np.isfinite(p.pressure).any())  # fmt: skip
-    cb = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), cax=cax,
-                      extend="max" if over else "neither")  # fmt: skip
+    over = any(
+        np.nanmax(p.pressure) > norm.vmax for p in all_patterns if np.isfinite(p.pressure).any()
+    )
+    cb = fig.colorbar(
+        plt.cm.ScalarMappable(norm=norm, cmap=cmap), cax=cax, extend="max" if over else "neither"
+    )
     zone = any(p.grid_model == "zone" for p in all_patterns)
     label = "contact pressure, solved (MPa)" if zone else "contact pressure, Hertz p_max (MPa)"
     cb.set_label(label, fontsize=10)
     cb.ax.tick_params(labelsize=9)
-    fig.legend(handles=_legend_handles(), loc="lower center", ncol=5, fontsize=8.5,
-               frameon=False, bbox_to_anchor=(0.5, 0.0))  # fmt: skip
+    fig.legend(
+        handles=_legend_handles(),
+        loc="lower center",
+        ncol=5,
+        fontsize=8.5,
+        frameon=False,
+        bbox_to_anchor=(0.5, 0.0),
+    )
     title += f"; flanks seen face on, profile drawn x{PROFILE_SCALE:g}"
     fig.text(0.5, 1.0 - 0.12 / fig_h, title, ha="center", va="top", fontsize=11.5)
     out_png = Path(out_png)
@@ -326,8 +354,10 @@ def draw_flank_patterns(study, positions: list[dict], out_dir: Path, scenes=None
     n = len(positions)
     by_mesh = _case_patterns(study, positions, scenes)
     what = "pressure" if _zoned(by_mesh) else "Hertz pressure"
-    title = (f"{study.name}: contact pattern on the drive flanks, maximum {what} over "
-             f"the mesh cycle ({n} position{'s' if n != 1 else ''})")  # fmt: skip
+    title = (
+        f"{study.name}: contact pattern on the drive flanks, maximum {what} over "
+        f"the mesh cycle ({n} position{'s' if n != 1 else ''})"
+    )
     return [_layout([(study.name, by_mesh)], Path(out_dir) / "flank_patterns.png", title)]
 
 

@@ -53,13 +53,18 @@ def _draw(scene, pos: dict, level: int, png_path: Path, title: str) -> Path:
             plotter.add_mesh(part, color=colour, opacity=0.35, label=body)
         pins = np.flatnonzero(poly.cell_data["pin"] == 1)
         if pins.size:  # the carrier's pins, apart from its plates and posts
-            plotter.add_mesh(poly.extract_cells(pins), color=PIN_COLOUR, opacity=0.9,
-                             label="carrier pins")  # fmt: skip
+            plotter.add_mesh(
+                poly.extract_cells(pins), color=PIN_COLOUR, opacity=0.9, label="carrier pins"
+            )
         plotter.add_mesh(
-            cloud, scalars="line load (N/mm)", cmap="inferno_r", point_size=9,
-            render_points_as_spheres=True, clim=(0.0, max(float(w.max()), 1.0)),
+            cloud,
+            scalars="line load (N/mm)",
+            cmap="inferno_r",
+            point_size=9,
+            render_points_as_spheres=True,
+            clim=(0.0, max(float(w.max()), 1.0)),
             scalar_bar_args={"position_x": 0.2, "width": 0.6, "fmt": "%.0f"},
-        )  # fmt: skip
+        )
         if view == "xy":
             plotter.view_xy()
             plotter.add_text("from +z (scene frame)", font_size=10)

@@ -105,8 +105,11 @@ def contact_stress_at_points(gearset, material, pos: dict) -> dict:
     for name, mesh in pos["meshes"].items():
         st = mesh_stations(mesh)
         s_st, hz_st = _hertz(gearset, steel, pos, mesh, st["x_mm"], st["line_load_N_per_mm"])
-        rec = {"grid_model": mesh.get("grid_model", "line"), "station_s_mm": s_st,
-               "station_hertz_MPa": hz_st}  # fmt: skip
+        rec = {
+            "grid_model": mesh.get("grid_model", "line"),
+            "station_s_mm": s_st,
+            "station_hertz_MPa": hz_st,
+        }
         if rec["grid_model"] == "zone":
             pts = mesh["points"]
             s, _ = _hertz(gearset, steel, pos, mesh, pts["x_mm"], np.zeros(len(pts["x_mm"])))
@@ -154,10 +157,15 @@ def iso_root_stress_factors(gearset) -> dict:
         r = nominal_root_stress(pair, i, driver_torque[(a, b)])
         r19 = nominal_root_stress(pair, i, driver_torque[(a, b)], edition=2019)
         ex = fillet_tangent_point(pair.gear(i))
-        out[key] = {"sigma_F0": r["sigma_F0"], "sigma_F0_Ybeta2019": r19["sigma_F0"],
-                    "edition": r["edition"], "internal": pair.gear(i).internal,
-                    **{k: r[k] for k in ISO_ROOT_KEYS},
-                    "rho_F_generated": ex["rho_F"], "s_Fn_generated": ex["s_Fn"]}  # fmt: skip
+        out[key] = {
+            "sigma_F0": r["sigma_F0"],
+            "sigma_F0_Ybeta2019": r19["sigma_F0"],
+            "edition": r["edition"],
+            "internal": pair.gear(i).internal,
+            **{k: r[k] for k in ISO_ROOT_KEYS},
+            "rho_F_generated": ex["rho_F"],
+            "s_Fn_generated": ex["s_Fn"],
+        }
     return out
 
 
@@ -254,8 +262,9 @@ def _zone_cell_edges(gearset, pos: dict, mesh: dict) -> tuple[np.ndarray, np.nda
     seg = np.asarray(st["length_mm"], float)[np.asarray(pts["station"], int)]
     width = np.asarray(pts["area_mm2"], float) / seg  # across the line, along the profile
     # the fixed bands, widened to the end section and the last cell (module docstring)
-    face_end, tip_form = _bands(gearset, pos, mesh, x, face_reach=seg,
-                                tip_reach=EDGE_CELLS * width + EDGE_REACH_MM)  # fmt: skip
+    face_end, tip_form = _bands(
+        gearset, pos, mesh, x, face_reach=seg, tip_reach=EDGE_CELLS * width + EDGE_REACH_MM
+    )
     return face_end, tip_form
 
 
@@ -417,8 +426,11 @@ def contact_stress_cycle(gearset, material, positions: list[dict]) -> dict:
                 gearset.pair(a, b), torques[(a, b)], "mean"
             ),
         }
-        for name_w, w_ in (("w_mean", w_mean), ("w_max", w_max), ("w_nominal_mean",
-                           rec["w_nominal_mean_N_per_mm"])):  # fmt: skip
+        for name_w, w_ in (
+            ("w_mean", w_mean),
+            ("w_max", w_max),
+            ("w_nominal_mean", rec["w_nominal_mean_N_per_mm"]),
+        ):
             hz_c = contact_stress.mesh_contact(gearset.pair(a, b), 0.0, w_, steel, steel)
             rec[f"hertz_pitch_{name_w}_MPa"] = float(hz_c.p_max)
         for kind in ("interior", "edge"):

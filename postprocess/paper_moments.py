@@ -44,11 +44,25 @@ from solvers.flank_grid import flank_grid
 MEAN_KEYS = {
     "single_pinion": ("Mx_pin", "My_pin", "Mz_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring"),
     "double_pinion": (
-        "Mx_SP", "My_SP", "Mz_SP", "Mx_RP", "My_RP", "Mz_RP", "ZS", "Z_SPRP", "ZR",
-        "M_LOA_SP_SUN", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_RING",
-        "M_LOA_sun_SP", "M_LOA_RP_ring", "M_LOA_SPRP_diff", "f_ma_SPRP_um",
+        "Mx_SP",
+        "My_SP",
+        "Mz_SP",
+        "Mx_RP",
+        "My_RP",
+        "Mz_RP",
+        "ZS",
+        "Z_SPRP",
+        "ZR",
+        "M_LOA_SP_SUN",
+        "M_LOA_SP_RP",
+        "M_LOA_RP_SP",
+        "M_LOA_RP_RING",
+        "M_LOA_sun_SP",
+        "M_LOA_RP_ring",
+        "M_LOA_SPRP_diff",
+        "f_ma_SPRP_um",
     ),
-}  # fmt: skip
+}
 
 #: the issue-12 names of the double-pinion LOA moments -> the names of section 5's formulas
 #: (:func:`gears.analytic.double_pinion.loa_moments`); M_LOA_SP_RP, M_LOA_RP_SP are the same
@@ -135,9 +149,11 @@ def _double_branch(train: dict, gearset, names: list[str], lines=None) -> dict:
     centres = {roles[b]: np.asarray(train["pinions"][b]["centre_mm"]) for b in names}
     # "pinion_bodies", not "pinions": a position also holds train_results' "pinions" (per
     # body), which this key would overwrite
-    out: dict = {"pinion_bodies": list(names),
-                 "centres_mm": {k: v.tolist() for k, v in centres.items()},
-                 "frames": {k: v.tolist() for k, v in frames.items()}}  # fmt: skip
+    out: dict = {
+        "pinion_bodies": list(names),
+        "centres_mm": {k: v.tolist() for k, v in centres.items()},
+        "frames": {k: v.tolist() for k, v in frames.items()},
+    }
     for b in names:
         pn, P = roles[b], train["pinions"][b]
         out[f"Mx_{pn}"], out[f"My_{pn}"], out[f"Mz_{pn}"] = P["Mx"], P["My"], P["Mz"]
@@ -190,8 +206,12 @@ def _double_branch(train: dict, gearset, names: list[str], lines=None) -> dict:
         ("SP-RP", "RP"): (geo.r_rp_sp, "SP"),
         ("RP-ring", "RP"): (geo.r_rp_ring, "out"),
     }
-    on_sign = {("sun-SP", "SP"): +1.0, ("SP-RP", "SP"): -1.0, ("SP-RP", "RP"): +1.0,
-               ("RP-ring", "RP"): -1.0}  # fmt: skip
+    on_sign = {
+        ("sun-SP", "SP"): +1.0,
+        ("SP-RP", "SP"): -1.0,
+        ("SP-RP", "RP"): +1.0,
+        ("RP-ring", "RP"): -1.0,
+    }
     shifted, pitch_points = {}, {}
     for pn in ("SP", "RP"):
         Q = frames[pn]
@@ -237,8 +257,9 @@ def _double_branch(train: dict, gearset, names: list[str], lines=None) -> dict:
     return out
 
 
-def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face, out, table5,
-                        lines=None):  # fmt: skip
+def _sp_rp_differential(
+    train, meshes, frames, centres, pitch_points, geo, face, out, table5, lines=None
+):
     """The SP-RP LOA differential D = M_LOA_SP_RP + M_LOA_RP_SP split exactly over the mesh
     load centroids (singh2007 Table 5 gives 11 N m with every mesh force at its pitch point).
 
@@ -291,10 +312,17 @@ def _sp_rp_differential(train, meshes, frames, centres, pitch_points, geo, face,
         x_lines = (lines or {}).get(meshes[label], M["points"]["x_mm"])
         z_lines = (np.asarray(x_lines, float).reshape(-1, 3) - centres[pn]) @ Q[2]
         sides[f"{label}_{pn}"] = {
-            "D": total, "pitch": pitch, "Z_mm": Z, "s_mm": s, "dD_dZ": dz, "dD_ds": ds,
-            "from_Z": Z * dz, "from_s": s * ds, "other": total - pitch - Z * dz - s * ds,
+            "D": total,
+            "pitch": pitch,
+            "Z_mm": Z,
+            "s_mm": s,
+            "dD_dZ": dz,
+            "dD_ds": ds,
+            "from_Z": Z * dz,
+            "from_s": s * ds,
+            "other": total - pitch - Z * dz - s * ds,
             "Z_lines_mm": float(z_lines.mean()) if z_lines.size else float("nan"),
-        }  # fmt: skip
+        }
     tilt = {pn: frames[pn].T @ np.asarray(out[f"{pn}_tilt_rad"], float) for pn in frames}
     rel = float((tilt["RP"] - tilt["SP"]) @ u)
     d_fe = out["M_LOA_SPRP_diff"]

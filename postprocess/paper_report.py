@@ -247,8 +247,14 @@ def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
     r_name, r_vals = reported_root_stress(s)
     root = _max(r_vals.values())
     # the keys of the two maxima, for their uncertainty
-    c_key = next((f"contact_stress_cycle.{m}.interior_p_max_MPa" for m, c in cyc.items()
-                  if contact and c.get("interior_p_max_MPa") == contact), "")  # fmt: skip
+    c_key = next(
+        (
+            f"contact_stress_cycle.{m}.interior_p_max_MPa"
+            for m, c in cyc.items()
+            if contact and c.get("interior_p_max_MPa") == contact
+        ),
+        "",
+    )
     r_key = next((f"{r_name}.{k}" for k, v in r_vals.items() if root and v == root), "")
     nodal = "" if r_name == "bending_stress_recovered" else " n"
     pics = ", ".join(
@@ -279,10 +285,14 @@ def _trends_section(runs: list[tuple[Path, dict]]) -> list[str]:
     lines = ["## The paper's conclusions, checked on our numbers", ""]
     branch = [s for _, s in runs if s.get("scene") == "one_branch"]
     single = sorted(
-        (s for s in branch if s["inputs"]["gearset"]["kind"] == "single_pinion"
-         and s["inputs"]["study_case"]["material"]["gear_modulus_factor"] == 1.0),
+        (
+            s
+            for s in branch
+            if s["inputs"]["gearset"]["kind"] == "single_pinion"
+            and s["inputs"]["study_case"]["material"]["gear_modulus_factor"] == 1.0
+        ),
         key=lambda s: -_tilt(s),
-    )  # fmt: skip
+    )
     double = sorted(
         (s for s in branch if s["inputs"]["gearset"]["kind"] == "double_pinion"),
         key=lambda s: -_tilt(s),
@@ -369,8 +379,11 @@ def _convergence_lines(results: Path, runs: list[tuple[Path, dict]]) -> list[str
             continue
         labels = ", ".join(c.get("labels", [])) or "none finished"
         kind = " (recorded)" if c.get("recorded") else ""
-        whose = (f"the ± of {', '.join(used[path])}" if path in used else
-                 "no summary here takes its ± from it")  # fmt: skip
+        whose = (
+            f"the ± of {', '.join(used[path])}"
+            if path in used
+            else "no summary here takes its ± from it"
+        )
         lines += [
             f"Convergence{kind}, {_link(path.parent / 'report.md', results, c['case'])} (runs "
             f"{labels}; {c.get('positions', '?')} position; {whose}): "

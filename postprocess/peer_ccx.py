@@ -312,11 +312,15 @@ def read_dat_displacements(path) -> dict[int, np.ndarray]:
 
 #: the rows of a ``*CONTACT PRINT`` CF block of ccx 2.20 (printed after its header)
 _STATS_ROWS = (
-    ("force_N", 0, 3), ("moment_origin_Nmm", 3, 6),  # total surface force, moment about 0
-    ("centre_mm", 6, 9), ("mean_normal", 9, 12),  # centre of the contact area, mean normal
+    ("force_N", 0, 3),
+    ("moment_origin_Nmm", 3, 6),  # total surface force, moment about 0
+    ("centre_mm", 6, 9),
+    ("mean_normal", 9, 12),  # centre of the contact area, mean normal
     ("moment_centre_Nmm", 12, 15),  # moment about that centre
-    ("area_mm2", 15, 16), ("normal_force_N", 16, 17), ("shear_force_N", 17, 18),
-)  # fmt: skip
+    ("area_mm2", 15, 16),
+    ("normal_force_N", 16, 17),
+    ("shear_force_N", 17, 18),
+)
 
 
 def read_dat_contact_statistics(path) -> dict[tuple[str, str], dict]:

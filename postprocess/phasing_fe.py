@@ -332,8 +332,9 @@ def discussion(data: dict) -> list[str]:
         text = f"{name} ({c['planets']} planets): "
         if not live:
             worst = max(r["solved"]["net_force_N"] for r in zero)
-            worst_e = max(r["excitation"]["net_force_N"] / max(r["excitation"]["mesh_N"])
-                          for r in zero)  # fmt: skip
+            worst_e = max(
+                r["excitation"]["net_force_N"] / max(r["excitation"]["mesh_N"]) for r in zero
+            )
             text += (
                 "the planets are in phase (Zs psi_i a whole number of mesh cycles), so under a "
                 "held torque they share it equally at every position (mesh forces within "

@@ -323,8 +323,10 @@ def checks(data: dict) -> dict:
 
         lin = departure(f) / max(abs(float(f[-1] - f[0])), 1e-30)
         lin_expect = departure(fa) / max(abs(float(fa[-1] - fa[0])), 1e-30)
-        load = [r["k_r"][kind] / r["analytic"][kind]["k_r_pitch_form_N_per_mm"] - 1
-                for r in data["torque_runs"]]  # fmt: skip
+        load = [
+            r["k_r"][kind] / r["analytic"][kind]["k_r_pitch_form_N_per_mm"] - 1
+            for r in data["torque_runs"]
+        ]
         fp = np.array([plane_radial_force(recs[x][kind], kind) for x in d])
         fo = f - fp
         k_plane = -float(np.polyfit(d, fp, 1)[0])

@@ -26,9 +26,12 @@ from postprocess.run_scalars import variant
 #: a variant's value groups (:func:`studies.sector_sizes.solve_variant`) and the convergence
 #: study's scalar keys they are read as (:data:`postprocess.convergence_study.SPLIT_PREFIXES`);
 #: the recovered values (:mod:`solvers.surface_recovery`) are in variants since 2026-11-30
-GROUP_PREFIX = {"surface": "bending_stress.", "tangent": "bending_stress_tangent.",
-                "surface_recovered": "bending_stress_recovered.",
-                "tangent_recovered": "bending_stress_tangent_recovered."}  # fmt: skip
+GROUP_PREFIX = {
+    "surface": "bending_stress.",
+    "tangent": "bending_stress_tangent.",
+    "surface_recovered": "bending_stress_recovered.",
+    "tangent_recovered": "bending_stress_tangent_recovered.",
+}
 
 
 def spread(values: Sequence[float]) -> float | None:
@@ -78,9 +81,13 @@ def scatter_floors(entries: Iterable[Mapping], level: int) -> dict[str, float]:
 def level_inputs(conv: Mapping, level: int) -> set:
     """The inputs hashes of a study's ladder runs at ``level`` (its ladder degree, the
     level's own sizes: not a run off the ladder at that level, such as L1P1F2 or L1P2)."""
-    return {(r.get("reuse_key") or {}).get("inputs_hash") for r in conv.get("runs") or []
-            if r.get("level") == level and not variant(r)
-            and r.get("degree") == conv.get("ladder_degree", 1)}  # fmt: skip
+    return {
+        (r.get("reuse_key") or {}).get("inputs_hash")
+        for r in conv.get("runs") or []
+        if r.get("level") == level
+        and not variant(r)
+        and r.get("degree") == conv.get("ladder_degree", 1)
+    }
 
 
 def case_level_inputs(conv: Mapping) -> set:

@@ -64,38 +64,53 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
     ``runs`` (name -> summary) and the gear keys ``keys``."""
     first = runs[order[0]] if order else {}
     sub = "submodel" in (first.get("bending_stress_method") or "")
-    read = [
-        "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on a",
-        "P2 submodel of those teeth (`solvers/root_submodel.py`: a sector of the gear as wide",
-        "as the most teeth loaded in the mesh cycle, from the first loaded tooth, reaching a",
-        "tooth space beyond and 2.5 modules below the root, meshed at the next finer level",
-        "than the global model, its loaded fillets at 0.2 / 0.15 / 0.1 mm for levels 0 / 1 / 2,",
-        "driven at its cut faces by the global displacement and loaded by the solved contact",
-        "forces): at each fillet vertex the mean",
-        "of the surface cells' own (linear) stress there,",
-    ] if sub else [
-        "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on",
-        "the global model's fillets: at each fillet vertex the mean of the surface cells' own",
-        "stress there (P1: constant per cell, a lower estimate converging as h),",
-    ]  # fmt: skip
+    read = (
+        [
+            "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on a",
+            "P2 submodel of those teeth (`solvers/root_submodel.py`: a sector of the gear as wide",
+            "as the most teeth loaded in the mesh cycle, from the first loaded tooth, reaching a",
+            "tooth space beyond and 2.5 modules below the root, meshed at the next finer level",
+            "than the global model, its loaded fillets at 0.2 / 0.15 / 0.1 mm for levels",
+            "0 / 1 / 2, driven at its cut faces by the global displacement and loaded by the",
+            "solved contact forces): at each fillet vertex the mean",
+            "of the surface cells' own (linear) stress there,",
+        ]
+        if sub
+        else [
+            "FE: the maximum principal stress at the fillet surface of the loaded teeth, read on",
+            "the global model's fillets: at each fillet vertex the mean of the surface cells' own",
+            "stress there (P1: constant per cell, a lower estimate converging as h),",
+        ]
+    )
     check = "global" if sub else "P1 cell"
     recovered = recovered_section(runs, keys, order)
     lines = [
         "## Root stress: FE fillet surface against ISO 6336-3 (MPa)",
         "",
-        *([*recovered, "", "Nodal maxima (the earlier reading; a check on the one above):",
-           ""] if recovered else []),
+        *(
+            [*recovered, "", "Nodal maxima (the earlier reading; a check on the one above):", ""]
+            if recovered
+            else []
+        ),
         *read,
         "maximum over the vertices farther than one normal module from a face end and over the",
         "mesh positions (`solvers/root_stress.py`); `face end`: the largest within that band (a",
         "corner under edge load, growing with refinement); `30/60 deg`: the largest value on",
         "ISO's critical line (fillet tangent at 30 deg to the tooth centre line, 60 deg for the",
         "ring) along the face width; "
-        + ("`global`: the global model's own P1 surface value, the earlier estimate (its"
-           if sub else "`P1 cell`: the largest cell value (the earlier estimate)."),
-        *(["fillets are 0.45 / 0.15 / 0.12 mm at levels 0 / 1 / 2). The ± beside a value is",
-           "its discretisation error from the convergence study of its gear set."]
-          if sub else []),
+        + (
+            "`global`: the global model's own P1 surface value, the earlier estimate (its"
+            if sub
+            else "`P1 cell`: the largest cell value (the earlier estimate)."
+        ),
+        *(
+            [
+                "fillets are 0.45 / 0.15 / 0.12 mm at levels 0 / 1 / 2). The ± beside a value is",
+                "its discretisation error from the convergence study of its gear set.",
+            ]
+            if sub
+            else []
+        ),
         "ISO: method B nominal sigma_F0 (K factors 1, Y_B = Y_DT = 1; tooth thickness allowance",
         "included; the ring by ISO's substitute rack at 60 deg) with Y_beta of the 2006 edition;",
         "in brackets with the 2019 edition's Y_beta (the 2006 one divided by cos(beta)^3).",
@@ -105,7 +120,7 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
         "| case | level / P | gear | FE surface | at (tooth, side, Z mm) | face end"
         f" | FE 30/60 deg | {check} | ISO sigma_F0 (2019) | surface / ISO | 30/60 / ISO |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
-    ]  # fmt: skip
+    ]
     ratios, tang, near = [], [], []
     for name in order:
         s = runs[name]
@@ -126,8 +141,7 @@ def root_section(runs: dict[str, dict], keys, order) -> list[str]:
             # face end the load centroid leans to has the centroid's sign (0.0 - z: no -0.0)
             where = _where(at.get(k))
             lv = level_text(s) if "level" in s else "-"
-            head = f"| {name} | {lv} / {s.get('degree', '-')} " if i == 0 else (
-                "| | ")  # fmt: skip
+            head = f"| {name} | {lv} / {s.get('degree', '-')} " if i == 0 else ("| | ")
             iso_txt = f"{_f(sig)} ({_f(sig19)})" if sig19 else _f(sig)
             lines.append(
                 f"{head}| {_label(k)} | {_f(fe.get(k))}{_pm(s, 'bending_stress', k, fe)} | "
@@ -251,8 +265,10 @@ def _root_differences(ratios: list[float], tang: list[float], s: dict) -> list[s
                 f"{v['q_s']:.2f}: the substitute rack's fillet radius rho_F = {v['rho_F']:.3f} "
                 f"mm, where the shaper-cut fillet has {v['rho_F_generated']:.3f} mm at 60 deg)"
             )
-        out.append(txt + "; the FE fillet is the generated trochoid, its notch stress is "
-                   "computed, not fitted.")  # fmt: skip
+        out.append(
+            txt + "; the FE fillet is the generated trochoid, its notch stress is "
+            "computed, not fitted."
+        )
     out += [
         "- Rim: ISO's Y_B = 1 assumes a rim at least 1.2 tooth depths thick; the modelled "
         "ring is a thin rim that bends as a ring between its supports, which ISO does not "
@@ -272,8 +288,11 @@ def correction_note(runs: dict[str, dict]) -> list[str]:
     run the largest clipped eigenvalue ratio over the positions (``contact_correction_
     clipped``; 0: eq. (5) unchanged). None for runs without the entry (line grid, older
     summaries)."""
-    got = {n: s["contact_correction_clipped"] for n, s in runs.items()
-           if s.get("contact_correction_clipped") is not None}  # fmt: skip
+    got = {
+        n: s["contact_correction_clipped"]
+        for n, s in runs.items()
+        if s.get("contact_correction_clipped") is not None
+    }
     if not got:
         return []
     vals = ", ".join(f"{n} {v:.2f}" for n, v in got.items())

@@ -60,8 +60,10 @@ def set_mesh(mesh: str, gears) -> str:
     its index (``sun-pinion2`` -> ``sun_pinion``, :func:`meshing.scenes.planetary_scene`)."""
 
     def gear(body: str) -> str:
-        return next((g for g in gears if body == g or (body.startswith(g)
-                     and body[len(g):].isdigit())), body)  # fmt: skip
+        return next(
+            (g for g in gears if body == g or (body.startswith(g) and body[len(g) :].isdigit())),
+            body,
+        )
 
     return "_".join(gear(b) for b in mesh.split("-"))
 
@@ -134,9 +136,14 @@ def cycle_bending(records: list[dict]) -> dict:
     An entry missing at a position (no fillet, or a planet's mesh not read) is left out of
     its maximum; None where no position has it (:mod:`solvers.root_stress`)."""
     recs = [(j, r) for j, r in enumerate(records) if r.get("bending_stress")]
-    out: dict = {"bending_stress": None, "bending_stress_tangent": None,
-                 "bending_stress_cell": None, "bending_stress_face_end": None,
-                 "bending_stress_near_load": None, "bending_stress_at": None}  # fmt: skip
+    out: dict = {
+        "bending_stress": None,
+        "bending_stress_tangent": None,
+        "bending_stress_cell": None,
+        "bending_stress_face_end": None,
+        "bending_stress_near_load": None,
+        "bending_stress_at": None,
+    }
     if not recs:
         out["bending_stress_note"] = (
             "not read (numerics.root_stress 'none', or 'global' on coarse root fillets)"
@@ -145,8 +152,10 @@ def cycle_bending(records: list[dict]) -> dict:
     keys = [k for k, v in recs[0][1]["bending_stress"].items() if not isinstance(v, (dict, str))]
 
     def best(get):
-        vals = {k: [(v, j) for j, r in recs if (v := get(r["bending_stress"], k)) is not None]
-                for k in keys}  # fmt: skip
+        vals = {
+            k: [(v, j) for j, r in recs if (v := get(r["bending_stress"], k)) is not None]
+            for k in keys
+        }
         return {k: max(v)[0] if v else None for k, v in vals.items()}, {
             k: max(v)[1] if v else None for k, v in vals.items()
         }
@@ -185,8 +194,12 @@ def cycle_bending(records: list[dict]) -> dict:
     locs = recs[0][1]["bending_stress"].get("locations") or {}
     to_set = {k: (locs.get(k) or {}).get("set_key", k) for k in keys}
     if any(k != v for k, v in to_set.items()):  # several planets: the largest per gear-set key
-        for name in ("bending_stress", "bending_stress_tangent", "bending_stress_recovered",
-                     "bending_stress_tangent_recovered"):  # fmt: skip
+        for name in (
+            "bending_stress",
+            "bending_stress_tangent",
+            "bending_stress_recovered",
+            "bending_stress_tangent_recovered",
+        ):
             by_set: dict = {}
             for k, v in out[name].items():
                 if v is not None and (to_set[k] not in by_set or v > by_set[to_set[k]][0]):
@@ -285,7 +298,8 @@ def _system_means(study, solved: list[dict]) -> dict:
     if "carrier" in solved[0]:
         out["torque_balance_rel"] = float(max(p["torque_balance_rel"] for p in solved))
         out["sun_centre_displacement_mm"] = np.mean(
-            [p["sun_centre_displacement_mm"] for p in solved], axis=0).tolist()  # fmt: skip
+            [p["sun_centre_displacement_mm"] for p in solved], axis=0
+        ).tolist()
         out["carrier_windup_rad"] = float(np.mean([p["carrier"]["windup_rad"] for p in solved]))
     return out
 

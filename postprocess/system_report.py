@@ -28,9 +28,20 @@ from postprocess.run_scalars import level_text
 #: frame; double pinion: section 5's SP and RP frames and the four LOA moments)
 KIND_QUANTITIES = {
     "single_pinion": ("My_pin", "Mx_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring"),
-    "double_pinion": ("Mx_SP", "My_SP", "Mx_RP", "My_RP", "ZS", "Z_SPRP", "ZR",
-                      "M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring"),
-}  # fmt: skip
+    "double_pinion": (
+        "Mx_SP",
+        "My_SP",
+        "Mx_RP",
+        "My_RP",
+        "ZS",
+        "Z_SPRP",
+        "ZR",
+        "M_LOA_sun_SP",
+        "M_LOA_SP_RP",
+        "M_LOA_RP_SP",
+        "M_LOA_RP_ring",
+    ),
+}
 QUANTITIES = KIND_QUANTITIES["single_pinion"]
 OFFSETS = ("ZS", "Z_SPRP", "ZR")  # mm; the rest N m
 
@@ -68,8 +79,10 @@ def _pm(s: dict, q: str) -> str:
 def _inputs(s: dict) -> str:
     inp = s["inputs"]["study_case"]
     b, m = inp["bearing"], inp["material"]
-    return (f"bearing radial {b['radial_stiffness']:.3g} N/mm, tilt {b['tilting_stiffness']:.3g} "
-            f"N mm/rad; gears E x {m['gear_modulus_factor']:g}")  # fmt: skip
+    return (
+        f"bearing radial {b['radial_stiffness']:.3g} N/mm, tilt {b['tilting_stiffness']:.3g} "
+        f"N mm/rad; gears E x {m['gear_modulus_factor']:g}"
+    )
 
 
 def root_fillets(s: dict) -> str:
@@ -84,10 +97,13 @@ def root_fillets(s: dict) -> str:
 def _fillet_note(branch: dict, system: dict) -> str:
     """Whether the branch and system runs compare like with like in their root fillets."""
     if not any(n in branch for n in system):
-        return ("No one-branch run of these cases to compare with (run them with "
-                "`--root-fillets coarse`, as `make case1-system` does).")  # fmt: skip
-    mixed = sorted(n for n in system if n in branch
-                   and root_fillets(branch[n]) != root_fillets(system[n]))  # fmt: skip
+        return (
+            "No one-branch run of these cases to compare with (run them with "
+            "`--root-fillets coarse`, as `make case1-system` does)."
+        )
+    mixed = sorted(
+        n for n in system if n in branch and root_fillets(branch[n]) != root_fillets(system[n])
+    )
     used = sorted({root_fillets(r) for r in (*branch.values(), *system.values())})
     if mixed:
         return (
@@ -100,10 +116,11 @@ def _fillet_note(branch: dict, system: dict) -> str:
     coarse = used == ["coarse"]
     return (
         f"Both scenes ran with {used[0] if len(used) == 1 else ' and '.join(used)} root "
-        "fillets" + (" (every fillet of the global model at the level's fillet_far size)"
-                     if coarse else "") + ", so the differences below are the system's, "
+        "fillets"
+        + (" (every fillet of the global model at the level's fillet_far size)" if coarse else "")
+        + ", so the differences below are the system's, "
         "not the fillets' (numerics.root_fillets)."
-    )  # fmt: skip
+    )
 
 
 def _set_stress(s: dict, name: str) -> tuple[dict, dict]:
@@ -130,13 +147,17 @@ def _root_stress_text(branch: dict, system: dict) -> list[str]:
             b, v = bv.get(key), sv[key]
             ratio = f"{v / b:.3f}" if b else "-"
             line = f"{_num(bt.get(key))} / {_num(st.get(key))}"
-            rows.append(f"| {name} | {key} | {_num(b)} | {_num(v)} ({sk.get(key, '-')}) | "
-                        f"{ratio} | {line} |")  # fmt: skip
+            rows.append(
+                f"| {name} | {key} | {_num(b)} | {_num(v)} ({sk.get(key, '-')}) | "
+                f"{ratio} | {line} |"
+            )
     if not rows:
         why = "numerics.root_stress 'none', or 'global' on its coarse root fillets"
         return ["", "## Root stress", "", f"Not read in the system scene ({why})."]
     return [
-        "", "## Root stress: branch against system", "",
+        "",
+        "## Root stress: branch against system",
+        "",
         "FE root stress at the fillet surface, the maximum over the mesh cycle (MPa), read in",
         "both scenes on P2 submodels of the loaded teeth driven by the scene's own solution",
         "(`solvers.root_submodel`); in the system scene on the most loaded mesh of each gear",
@@ -145,11 +166,12 @@ def _root_stress_text(branch: dict, system: dict) -> list[str]:
         "60 deg) line, branch / system. On coarse global fillets the submodels read higher",
         "than on the refined global model of the case reports (0.2-4.6 % measured for 1-GA",
         "and 1-GB, README, Design: root fillets), so compare these with each other, not",
-        "with the case reports.", "",
+        "with the case reports.",
+        "",
         "| case | gear | branch | system (read on) | system / branch | ISO line: branch / system |",
         "|---|---|---|---|---|---|",
         *rows,
-    ]  # fmt: skip
+    ]
 
 
 def _contact_stress_text(branch: dict, system: dict) -> list[str]:
@@ -170,17 +192,20 @@ def _contact_stress_text(branch: dict, system: dict) -> list[str]:
     if not rows:
         return []
     return [
-        "", "## Contact stress: branch against system", "",
+        "",
+        "## Contact stress: branch against system",
+        "",
         "The largest contact pressure over the mesh cycle at the interior grid points (MPa;",
         "the face-end and tip/form edges kept apart, as in the case reports), in the system",
         "scene the largest over the planets' meshes of each gear pair (the mesh in brackets);",
         "ISO 6336-2's sigma_H from each scene's own face load factor, and the largest line",
-        "load (N/mm), branch / system.", "",
+        "load (N/mm), branch / system.",
+        "",
         "| case | mesh | branch | system (mesh) | system / branch | sigma_H: branch / system "
         "| w_max: branch / system |",
         "|---|---|---|---|---|---|---|",
         *rows,
-    ]  # fmt: skip
+    ]
 
 
 def _num(v) -> str:
@@ -189,14 +214,19 @@ def _num(v) -> str:
 
 def _per_pair(system: dict, quantities) -> list[str]:
     """Per pair of each case: angle, load share and the quantities (means over positions)."""
-    lines = ["", "### Per pair", "",
-             "| case | pair | angle (deg) | load share | " + " | ".join(quantities) + " |",
-             "|---|---|---|---|" + "---|" * len(quantities)]  # fmt: skip
+    lines = [
+        "",
+        "### Per pair",
+        "",
+        "| case | pair | angle (deg) | load share | " + " | ".join(quantities) + " |",
+        "|---|---|---|---|" + "---|" * len(quantities),
+    ]
     for name, s in system.items():
         for k, p in enumerate(s["pinions"]):
             vals = " | ".join(_fmt(q, p.get(q)) for q in quantities)
-            lines.append(f"| {name} | {k + 1} | {p['angle_deg']:.3f} | {p['load_share']:.4f} | "
-                         f"{vals} |")  # fmt: skip
+            lines.append(
+                f"| {name} | {k + 1} | {p['angle_deg']:.3f} | {p['load_share']:.4f} | {vals} |"
+            )
     return lines
 
 
@@ -218,8 +248,9 @@ def _double_pinion_text(branch: dict, system: dict) -> list[str]:
         b = branch.get(name)
         if b is None:
             continue
-        moved = {k: s[k] - b[k] for k in ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP",
-                                          "M_LOA_RP_ring")}  # fmt: skip
+        moved = {
+            k: s[k] - b[k] for k in ("M_LOA_sun_SP", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_ring")
+        }
         worst = max(moved, key=lambda k: abs(moved[k]))
         lines += [
             "",
@@ -271,8 +302,9 @@ def _spacing_text(s: dict) -> list[str]:
     ]
 
 
-def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
-                        pair: tuple[str, str] | None = None) -> Path:  # fmt: skip
+def write_system_report(
+    branch_dir: Path, system_dir: Path, cases: list[str], pair: tuple[str, str] | None = None
+) -> Path:
     """Write ``system_dir/report.md``. ``pair``: (gears stiffer, bearing softer) cases whose
     difference the system scene must show (the paper's 1-GB-R and 1-GC)."""
     branch, system = _load(branch_dir, cases), _load(system_dir, cases)
@@ -316,15 +348,28 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
                 continue
             vals = " | ".join(_fmt(q, r.get(q)) + _pm(r, q) for q in quantities)
             lines.append(f"| {name} | {_inputs(r)} | {label} | {level_text(r)} | {vals} |")
-    scenes = {f"{n} ({lab})": rs[n] for n in system for lab, rs in
-              (("branch", branch), ("system", system)) if n in rs}  # fmt: skip
-    lines += ["", uncertainty_note(scenes), *failed_positions_lines(scenes), "",
-              _fillet_note(branch, system)]  # fmt: skip
+    scenes = {
+        f"{n} ({lab})": rs[n]
+        for n in system
+        for lab, rs in (("branch", branch), ("system", system))
+        if n in rs
+    }
+    lines += [
+        "",
+        uncertainty_note(scenes),
+        *failed_positions_lines(scenes),
+        "",
+        _fillet_note(branch, system),
+    ]
     unit = "pair" if kind == "double_pinion" else "pinion"
-    lines += ["", "## What the system adds", "",
-              f"| case | K_gamma | load shares ({unit}: angle deg, share) | sun centre (um) |"
-              " carrier wind-up (urad) | torque balance (rel.) |",
-              "|---|---|---|---|---|---|"]  # fmt: skip
+    lines += [
+        "",
+        "## What the system adds",
+        "",
+        f"| case | K_gamma | load shares ({unit}: angle deg, share) | sun centre (um) |"
+        " carrier wind-up (urad) | torque balance (rel.) |",
+        "|---|---|---|---|---|---|",
+    ]
     for name, s in system.items():
         shares = ", ".join(f"{p['angle_deg']:.3f}: {p['load_share']:.4f}" for p in s["pinions"])
         sc = s.get("sun_centre_displacement_mm")
@@ -377,11 +422,16 @@ def write_system_report(branch_dir: Path, system_dir: Path, cases: list[str],
     pin = system_dir / "pin_errors.json"
     if pin.is_file():
         res = json.loads(pin.read_text())
-        lines += ["", f"## Load sharing under a pin-hole error ({res['case']}, level "
-                  f"{res['level']}, one position)", "",
-                  f"The pin of pinion 1 displaced {res['direction']}ly in the carrier "
-                  "(`python -m studies.pin_errors`; the other pins exact):", "",
-                  *_pin_error_table(res["rows"])]  # fmt: skip
+        lines += [
+            "",
+            f"## Load sharing under a pin-hole error ({res['case']}, level "
+            f"{res['level']}, one position)",
+            "",
+            f"The pin of pinion 1 displaced {res['direction']}ly in the carrier "
+            "(`python -m studies.pin_errors`; the other pins exact):",
+            "",
+            *_pin_error_table(res["rows"]),
+        ]
         lines += ["", *_pin_error_reading(res["rows"])]
         lines += ["", "![K_gamma against the pin-hole error](pin_errors.png)"]
     lines += ["", "## Pictures", ""]
@@ -408,8 +458,11 @@ def _pin_error_table(rows) -> list[str]:
         line = f"| {sun} | {r['error_um']:g} | {r['K_gamma']:.4f} | {shares} |"
         if keys:
             stress, at = r.get("root_stress") or {}, r.get("root_stress_key") or {}
-            line += " " + " / ".join(f"{_num(stress.get(q))} ({_planet(at.get(q))})"
-                                     for q in keys) + " |"  # fmt: skip
+            line += (
+                " "
+                + " / ".join(f"{_num(stress.get(q))} ({_planet(at.get(q))})" for q in keys)
+                + " |"
+            )
         out.append(line)
     return out
 
@@ -430,8 +483,11 @@ def root_stress_ratios(rows: list[dict]) -> dict:
         if ref is None:
             continue
         for key, v0 in ref.items():
-            pts = [(r["error_um"], r["root_stress"][key] / v0) for r in series
-                   if v0 and r["root_stress"].get(key) is not None]  # fmt: skip
+            pts = [
+                (r["error_um"], r["root_stress"][key] / v0)
+                for r in series
+                if v0 and r["root_stress"].get(key) is not None
+            ]
             out.setdefault(k_sun, {})[key] = sorted(pts)
     return out
 
@@ -466,8 +522,9 @@ def _pin_error_reading(rows) -> list[str]:
         )
     if sup is not None:
         k = min(r["sun_radial_stiffness"] for r in rows if r.get("sun_radial_stiffness"))
-        series = sorted((r for r in rows if r.get("sun_radial_stiffness") == k),
-                        key=lambda r: r["error_um"])  # fmt: skip
+        series = sorted(
+            (r for r in rows if r.get("sun_radial_stiffness") == k), key=lambda r: r["error_um"]
+        )
         lo, hi = series[0], series[-1]
         out.append(
             f"Supported sun ({k:.3g} N/mm): the sun cannot follow. Pinion 1's share is "

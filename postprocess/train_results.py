@@ -139,16 +139,31 @@ def grid_record(pair, lines: list[dict], F: np.ndarray) -> dict:
     for j, ln in enumerate(lines):
         a, b = ln["rows"]
         line[st[a:b]] = j
-    points = {"x_mm": g.x_a.tolist(), "force_N": F.tolist(), "area_mm2": w.tolist(),
-              "pressure_MPa": p.tolist(), "station": st.tolist()}  # fmt: skip
+    points = {
+        "x_mm": g.x_a.tolist(),
+        "force_N": F.tolist(),
+        "area_mm2": w.tolist(),
+        "pressure_MPa": p.tolist(),
+        "station": st.tolist(),
+    }
     q = f_st / L
     if not zone:
         points["line_load_N_per_mm"] = q.tolist()
-    stations = {"x_mm": x_st.tolist(), "length_mm": L.tolist(), "force_N": f_st.tolist(),
-                "line_load_N_per_mm": q.tolist(), "peak_pressure_MPa": peak.tolist(),
-                "line": line.tolist()}  # fmt: skip
-    return {"grid_model": "zone" if zone else "line", "grid_points": g.n,
-            "grid_stations": n_st, "points": points, "stations": stations}  # fmt: skip
+    stations = {
+        "x_mm": x_st.tolist(),
+        "length_mm": L.tolist(),
+        "force_N": f_st.tolist(),
+        "line_load_N_per_mm": q.tolist(),
+        "peak_pressure_MPa": peak.tolist(),
+        "line": line.tolist(),
+    }
+    return {
+        "grid_model": "zone" if zone else "line",
+        "grid_points": g.n,
+        "grid_stations": n_st,
+        "points": points,
+        "stations": stations,
+    }
 
 
 def mesh_stations(mesh: dict) -> dict:
@@ -199,8 +214,11 @@ def corner_cells(corner, F: np.ndarray) -> dict:
     flank's, off the plane of action): how many, how many carry load, and their force (N)."""
     on = np.asarray(corner, int) != 0
     F = np.asarray(F, float)
-    return {"points": int(on.sum()), "active_points": int(np.count_nonzero(F[on] > 0)),
-            "force_N": float(F[on].sum())}  # fmt: skip
+    return {
+        "points": int(on.sum()),
+        "active_points": int(np.count_nonzero(F[on] > 0)),
+        "force_N": float(F[on].sum()),
+    }
 
 
 def _mesh(model, result, index: int, zone, lines: list[dict], corner=None) -> dict:

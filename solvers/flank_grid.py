@@ -530,15 +530,23 @@ def zone_grid(
         dev_a, dev_b, _, _, mic = separation(q[okf], nq_s[okf])
         g[okf] = dev_a + dev_b + mic
         sampled.append(
-            (j_a, tz, okf.reshape(m_z, ZONE_SAMPLES), g.reshape(m_z, ZONE_SAMPLES),
-             rad_b.reshape(m_z, ZONE_SAMPLES))
-        )  # fmt: skip
+            (
+                j_a,
+                tz,
+                okf.reshape(m_z, ZONE_SAMPLES),
+                g.reshape(m_z, ZONE_SAMPLES),
+                rad_b.reshape(m_z, ZONE_SAMPLES),
+            )
+        )
     # the reference each cell's g0 is held against: 0 (absolute), or per section the smallest
     # g0 over every tooth pair in reach (relative; inf where no pair has flank there)
     g_ref = np.zeros(m_z)
     if relative:
-        g_ref = np.min([np.where(ok, g, np.inf).min(axis=1) for _, _, ok, g, _ in sampled]
-                       or [np.full(m_z, np.inf)], axis=0)  # fmt: skip
+        g_ref = np.min(
+            [np.where(ok, g, np.inf).min(axis=1) for _, _, ok, g, _ in sampled]
+            or [np.full(m_z, np.inf)],
+            axis=0,
+        )
     limit = g_ref + gap_limit
     # pass 2: cells of each section where g0 < limit
     fine: dict[str, list] = {key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp", "corner")}
@@ -673,16 +681,24 @@ def zone_grid(
         depth_a,
         depth_b,
     )
-    info = FlankGridInfo(lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks,
-                         corner=F["corner"].astype(int))  # fmt: skip
+    info = FlankGridInfo(
+        lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks, corner=F["corner"].astype(int)
+    )
     return grid, info, link
 
 
 def flank_contact_pairs(
-    scene, spacing: float, width, micro, *, modifications: Mapping | None = None,
-    coast: bool = True, contact_model: str = "line", gap_limit: float = 0.04,
+    scene,
+    spacing: float,
+    width,
+    micro,
+    *,
+    modifications: Mapping | None = None,
+    coast: bool = True,
+    contact_model: str = "line",
+    gap_limit: float = 0.04,
     e_plane: Mapping[str, float] | None = None,
-):  # fmt: skip
+):
     """Contact grids on the exact theoretical contact lines of every mesh zone of the scene,
     and the contact pairs (driver, driven) that carry them: the drive-flank pairs of every
     zone first, then (``coast``) the coast-flank pairs, ``standby`` (open by the backlash).
@@ -727,21 +743,28 @@ def flank_contact_pairs(
         if contact_model == "zone":
             e_star = pair_contact_modulus(e_plane, zn.driver, zn.driven)
             try:
-                g, info, link = zone_grid(zn, drv, dvn, spacing, width, micro,
-                                          modifications=modifications, gap_limit=gap_limit,
-                                          e_star=e_star, relative=zn.flanks == "coast")  # fmt: skip
+                g, info, link = zone_grid(
+                    zn,
+                    drv,
+                    dvn,
+                    spacing,
+                    width,
+                    micro,
+                    modifications=modifications,
+                    gap_limit=gap_limit,
+                    e_star=e_star,
+                    relative=zn.flanks == "coast",
+                )
             except ValueError as err:
                 if zn.flanks != "coast":
                     raise
                 note = f"{err}; the coast flanks keep their contact-line grid"
                 warnings.warn(note, stacklevel=2)
         if link is None:
-            g, info = flank_grid(zn, drv, dvn, spacing, width, micro,
-                                 modifications=modifications)  # fmt: skip
+            g, info = flank_grid(zn, drv, dvn, spacing, width, micro, modifications=modifications)
             info.fallback = note
         grids[g.name] = (g, info)
-        pairs.append(ContactPair(g, zn.driver, zn.driven, standby=zn.flanks == "coast",
-                                 link=link))  # fmt: skip
+        pairs.append(ContactPair(g, zn.driver, zn.driven, standby=zn.flanks == "coast", link=link))
     return grids, pairs
 
 

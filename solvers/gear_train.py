@@ -34,7 +34,7 @@ by its gear's placement (a rigid map: the body's stiffness and factorization, ke
   backlash (they carry load only where a large tilt closes it). The gear set's flank
   modifications enter both as initial gaps.
 
-Gears take E = E_case * gear_modulus_factor and nu from the study case.
+Gears take E = E_case * gear_modulus_factor and nu from the case (:class:`TrainInputs`).
 
 Pinion frame (singh2007 sections 3 and 5, one per pinion): X radial from the sun centre
 through the pinion centre, Z = -z (scene), Y = Z x X (right-handed). The scene's sun turns
@@ -57,11 +57,12 @@ from meshing import tags as T
 from solvers.body_store import BodyStore
 from solvers.contact import ContactProblem, RigidUnknown, Spring, StiffnessBlock
 from solvers.contact_grid import ContactGrid
-from solvers.elastic_body import Dirichlet, ElasticBody, LinearSolver, Material
+from solvers.elastic_body import Dirichlet, ElasticBody, Material
 from solvers.flank_grid import FlankGridInfo, flank_contact_pairs, is_coast, mesh_name
 from solvers.modulus_scaling import ScaledBody, with_material
 from solvers.rigid_coupling import RigidCoupling
 from solvers.superelement import Superelement
+from solvers.train_inputs import TrainInputs
 
 #: the six bore DOFs of a pinion (and of a carrier pin), as rigid unknowns <name>_<dof>
 BEARING_DOFS = ("x", "y", "z", "rx", "ry", "spin")
@@ -127,15 +128,16 @@ def bearing_stiffness(bearing) -> np.ndarray:
     """The 6 diagonal needle-bearing stiffnesses along :data:`BEARING_DOFS` (N/mm, N mm/rad):
     radial x and y, axial, tilting about x and y, spin free."""
     b = bearing
-    return np.array([b.radial_stiffness, b.radial_stiffness, b.axial_stiffness,
-                     b.tilting_stiffness, b.tilting_stiffness, 0.0])  # fmt: skip
-
-
-def linear_solver(study) -> LinearSolver:
-    """The bodies' :class:`solvers.elastic_body.LinearSolver` of the study's numerics; part
-    of every body's store key, so a body set up with another solver is never reused."""
-    num = study.numerics
-    return LinearSolver(num.linear_solver, num.linear_tolerance, num.out_of_core)
+    return np.array(
+        [
+            b.radial_stiffness,
+            b.radial_stiffness,
+            b.axial_stiffness,
+            b.tilting_stiffness,
+            b.tilting_stiffness,
+            0.0,
+        ]
+    )
 
 
 def _held_body(store, key, make, held):
@@ -148,14 +150,16 @@ def _held_body(store, key, make, held):
     return store.body(key, made)
 
 
-def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> list[ElasticBody]:
+def gear_bodies(
+    scene, meshes: dict, inputs: TrainInputs, degree: int, store: BodyStore
+) -> list[ElasticBody]:
     """The elastic bodies of the scene's gears, each in its own frame and placed in the scene:
     the sun bore slaved to its axis, every pinion bore slaved to its centre (all six DOFs
     held as rigid unknowns), the ring held at its rim. Kept in ``store`` by (mesh, degree,
     Poisson ratio, supports): a body of another Young's modulus is a
     :class:`solvers.modulus_scaling.ScaledBody` of the stored one."""
-    mat = Material(study.material.gear_youngs_modulus, study.material.poisson_ratio)
-    ls = linear_solver(study)
+    mat = Material(inputs.gear_youngs_modulus, inputs.poisson_ratio)
+    ls = inputs.linear_solver
     origin = (0.0, 0.0, 0.0)
     sun, ring = scene.sun_name, scene.ring_name
     floating = scene.carrier is not None
@@ -180,8 +184,16 @@ def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> li
             role = "pinion"
 
         def make(bm=bm, nm=nm, kw=kw):
-            return ElasticBody(nm, bm.bundle.mesh, bm.bundle.facet_tags, bm.tags, mat, degree,
-                               linear_solver=ls, **kw)  # fmt: skip
+            return ElasticBody(
+                nm,
+                bm.bundle.mesh,
+                bm.bundle.facet_tags,
+                bm.tags,
+                mat,
+                degree,
+                linear_solver=ls,
+                **kw,
+            )
 
         # keyed without E: a gear set of another modulus solves on the same factors
         base = _held_body(store, (bm.key, degree, mat.nu, role, ls), make, held)
@@ -191,11 +203,13 @@ def gear_bodies(scene, meshes: dict, study, degree: int, store: BodyStore) -> li
     return bodies
 
 
-def carrier_superelement(scene, meshes: dict, study, degree: int, store) -> Superelement:
+def carrier_superelement(
+    scene, meshes: dict, inputs: TrainInputs, degree: int, store
+) -> Superelement:
     """The carrier condensed onto its pins: steel (no gear modulus factor), held at the hub
     of its -z plate, each pin surface a rigid ring on a reference point at the pin centre."""
     spec = scene.carrier
-    mat = Material(study.material.youngs_modulus, study.material.poisson_ratio)
+    mat = Material(inputs.youngs_modulus, inputs.poisson_ratio)
     bm = meshes[CARRIER]
     couplings = [
         RigidCoupling(f"pin{k}", T.pin(k), (float(c[0]), float(c[1]), 0.0), (0.0,) * 6)
@@ -206,11 +220,12 @@ def carrier_superelement(scene, meshes: dict, study, degree: int, store) -> Supe
     def make():
         mb = bm.bundle
         kw = {"couplings": couplings, "dirichlet": [hub], "centre": (0.0, 0.0, 0.0)}
-        body = ElasticBody(CARRIER, mb.mesh, mb.facet_tags, bm.tags, mat, degree,
-                           linear_solver=ls, **kw)  # fmt: skip
+        body = ElasticBody(
+            CARRIER, mb.mesh, mb.facet_tags, bm.tags, mat, degree, linear_solver=ls, **kw
+        )
         return Superelement(body)
 
-    ls = linear_solver(study)
+    ls = inputs.linear_solver
     return store.keep((bm.key, degree, mat.E, mat.nu, "carrier-superelement", ls), make)
 
 
@@ -277,26 +292,38 @@ def branch_pin_errors(errors, pinions: int, branches: int) -> list[tuple[float, 
     return [tuple(e) if j == 0 else (0.0, 0.0) for e in errors for j in range(per)]
 
 
-def contact_grids(scene, study, spacing: float, width=None, micro=None, e_plane=None,
-                  coast: bool = True):  # fmt: skip
-    """The contact grids and pairs of ``scene`` with the study's contact numerics and flank
-    modifications (:func:`solvers.flank_grid.flank_contact_pairs`); ``e_plane`` by body name,
-    default the gears' plane-strain modulus (:func:`gear_bodies`'s material)."""
+def contact_grids(
+    scene,
+    inputs: TrainInputs,
+    spacing: float,
+    width=None,
+    micro=None,
+    e_plane=None,
+    coast: bool = True,
+):
+    """The contact grids and pairs of ``scene`` with the contact settings and flank
+    modifications of ``inputs`` (:func:`solvers.flank_grid.flank_contact_pairs`); ``e_plane``
+    by body name, default the gears' plane-strain modulus (:func:`gear_bodies`'s material)."""
     if e_plane is None:
-        e = Material(study.material.gear_youngs_modulus, study.material.poisson_ratio).e_plane
+        e = Material(inputs.gear_youngs_modulus, inputs.poisson_ratio).e_plane
         e_plane = {g.name: e for g in scene.gears}
-    num = study.numerics
     return flank_contact_pairs(
-        scene, spacing, width, micro, modifications=getattr(study.gearset, "modifications", None),
-        coast=coast, contact_model=num.contact_model,
-        gap_limit=num.zone_gap_limit_um * 1e-3, e_plane=e_plane,
-    )  # fmt: skip
+        scene,
+        spacing,
+        width,
+        micro,
+        modifications=inputs.modifications,
+        coast=coast,
+        contact_model=inputs.contact_model,
+        gap_limit=inputs.zone_gap_limit_mm,
+        e_plane=e_plane,
+    )
 
 
 def build_gear_train(
     scene,
     meshes: dict,
-    study,
+    inputs: TrainInputs,
     *,
     degree: int,
     spacing: float,
@@ -310,7 +337,7 @@ def build_gear_train(
     Args:
         scene: :class:`meshing.scenes.Scene`.
         meshes: body name -> :class:`meshing.scene_bodies.BodyMesh` (body frame).
-        study: :class:`cases.study_case.StudyCase` (material, bearing, torque, system).
+        inputs: what the model takes of the case (:class:`solvers.train_inputs.TrainInputs`).
         degree: Lagrange degree of the bodies.
         spacing: contact grid point spacing along the contact lines (mm).
         penalty_factor: contact penalty scale (see :class:`solvers.contact.ContactProblem`).
@@ -320,27 +347,28 @@ def build_gear_train(
     """
     t0 = time.perf_counter()
     store = BodyStore() if store is None else store
-    bodies = gear_bodies(scene, meshes, study, degree, store)
-    every, pairs = contact_grids(scene, study, spacing, width, micro,
-                                 {b.name: b.material.e_plane for b in bodies})  # fmt: skip
+    bodies = gear_bodies(scene, meshes, inputs, degree, store)
+    every, pairs = contact_grids(
+        scene, inputs, spacing, width, micro, {b.name: b.material.e_plane for b in bodies}
+    )
     grids = {k: v for k, v in every.items() if not is_coast(k)}
     coast_grids = {mesh_name(k): v for k, v in every.items() if is_coast(k)}
-    torque = sun_torque(study.gearset, scene.branches)
+    torque = n_mm(inputs.torque_per_branch_Nm * scene.branches)
     sun = scene.sun_name
     centres = {p: np.array([*scene.gear(p).placement.centre, 0.0]) for p in scene.pinion_names}
-    k = bearing_stiffness(study.bearing)
+    k = np.array(inputs.bearing_stiffness, dtype=float)
     unknowns = [RigidUnknown(f"{sun}_rotation", sun, coupling="axis", dof=5, load=torque)]
     springs, blocks, obstacles = [], [], []
     pins: dict[str, str | None] = dict.fromkeys(centres)
     errors = {p: np.zeros(6) for p in centres}
     carrier = None
     if scene.carrier is not None:
-        k_sun = study.system.sun_radial_stiffness
+        k_sun = inputs.sun_radial_stiffness
         for j, d in ((0, "x"), (1, "y")):
             unknowns.append(RigidUnknown(f"{sun}_{d}", sun, coupling="axis", dof=j, axes=np.eye(3)))
             if k_sun > 0:
                 springs.append(Spring(f"{sun}_{d}", None, k_sun))
-        carrier = carrier_superelement(scene, meshes, study, degree, store)
+        carrier = carrier_superelement(scene, meshes, inputs, degree, store)
         pin_unknowns, block, prefixes = _pin_unknowns(carrier)
         unknowns += pin_unknowns
         blocks.append(block)
@@ -348,8 +376,7 @@ def build_gear_train(
         angles = scene.carrier.pin_angles
         if len(prefixes) != len(centres):
             raise ValueError(f"{len(prefixes)} carrier pins for {len(centres)} pinions")
-        pin_err = branch_pin_errors(study.system.pin_position_errors_um, len(centres),
-                                    scene.branches)  # fmt: skip
+        pin_err = branch_pin_errors(inputs.pin_position_errors_um, len(centres), scene.branches)
         for p, prefix, a, e in zip(centres, prefixes, angles, pin_err, strict=True):
             pins[p] = prefix
             errors[p] = pin_error_offsets(e, a)
@@ -357,11 +384,31 @@ def build_gear_train(
         u, s = bearing_unknowns(p, k, pins[p], errors[p])
         unknowns += u
         springs += s
-    problem = ContactProblem(bodies, pairs, unknowns, springs, obstacles=obstacles,
-                             blocks=blocks, penalty_factor=penalty_factor)  # fmt: skip
+    problem = ContactProblem(
+        bodies,
+        pairs,
+        unknowns,
+        springs,
+        obstacles=obstacles,
+        blocks=blocks,
+        penalty_factor=penalty_factor,
+    )
     frames = {p: pinion_frame(c) for p, c in centres.items()}
     bearings = {p: k.copy() for p in centres}
     dofs = total_dofs(bodies) + (total_dofs([carrier.body]) if carrier else 0)
     timings = {"model": time.perf_counter() - t0}
-    return GearTrainModel(problem, scene, grids, torque, centres, frames, bearings, dofs,
-                          timings, pins, errors, carrier, coast_grids)  # fmt: skip
+    return GearTrainModel(
+        problem,
+        scene,
+        grids,
+        torque,
+        centres,
+        frames,
+        bearings,
+        dofs,
+        timings,
+        pins,
+        errors,
+        carrier,
+        coast_grids,
+    )

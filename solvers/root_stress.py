@@ -174,9 +174,12 @@ def _gather_rows(comm, a: np.ndarray, width: int) -> np.ndarray:
 
 
 def _fillet_groups(body, teeth) -> list[tuple[int, str, int]]:
-    return [(t, side, body.tags[tagnames.fillet(body.name, t, side)])
-            for t in teeth for side in ("pos", "neg")
-            if tagnames.fillet(body.name, t, side) in body.tags]  # fmt: skip
+    return [
+        (t, side, body.tags[tagnames.fillet(body.name, t, side)])
+        for t in teeth
+        for side in ("pos", "neg")
+        if tagnames.fillet(body.name, t, side) in body.tags
+    ]
 
 
 def tangent_line(gear, tooth: int, side: str, z: np.ndarray) -> np.ndarray:
@@ -230,8 +233,9 @@ def surface_values(body, u, facet_groups: list[np.ndarray]):
         cv = np.array([c2v.links(c) for c in cells]).reshape(-1, 4)
         local = np.argmax(cv[:, None, :] == fv[:, :, None], axis=2)  # facet vertex in cell
         sig = _stress_at(expr, mesh, cells, 4)  # geometry order = reference order
-        x = mesh.geometry.x[dolfinx.mesh.entities_to_geometry(
-            mesh, 0, fv.ravel().astype(np.int32)).ravel()].reshape(-1, 3, 3)  # fmt: skip
+        x = mesh.geometry.x[
+            dolfinx.mesh.entities_to_geometry(mesh, 0, fv.ravel().astype(np.int32)).ravel()
+        ].reshape(-1, 3, 3)
         rows = np.arange(len(facets))[:, None]
         vsig = sig[rows, local]  # (n_facets, 3 vertices, 3, 3)
         vrows.append(np.c_[np.full(fv.size, g), x.reshape(-1, 3), vsig.reshape(-1, 9)])
@@ -244,8 +248,10 @@ def surface_values(body, u, facet_groups: list[np.ndarray]):
     np.add.at(tensors, inverse.ravel(), vr[:, 4:])
     tensors = (tensors / np.maximum(count, 1)[:, None]).reshape(-1, 3, 3)
     lookup = {tuple(n): i for i, n in enumerate(nodes)}
-    tri = np.array([[lookup[(f[0], *np.round(f[1 + 3 * j : 4 + 3 * j], 9))] for j in range(3)]
-                    for f in fr], dtype=np.int64).reshape(-1, 3)  # fmt: skip
+    tri = np.array(
+        [[lookup[(f[0], *np.round(f[1 + 3 * j : 4 + 3 * j], 9))] for j in range(3)] for f in fr],
+        dtype=np.int64,
+    ).reshape(-1, 3)
     return nodes, tensors, np.c_[fr[:, 0].astype(np.int64), tri]
 
 
@@ -302,8 +308,9 @@ def near_loads(points: np.ndarray, loads: np.ndarray, reach: float) -> np.ndarra
     return near
 
 
-def body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]],
-                     load_points: np.ndarray | None = None) -> dict:  # fmt: skip
+def body_root_stress(
+    body, u, gear, keyed_teeth: dict[str, list[int]], load_points: np.ndarray | None = None
+) -> dict:
     """Surface, tangent-line and cell maxima per key for one body (collective): ``body``
     anything with the ``name``, ``mesh``, ``facet_tags``, ``tags``, ``material``, ``gdim``
     and ``comm`` of :class:`solvers.elastic_body.ElasticBody`, its mesh in the gear's own
@@ -335,8 +342,7 @@ def body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]],
     # tension fillet; sets the z step of the critical line)
     corners = nodes[facets[:, 1:], 1:4] if len(facets) else np.zeros((0, 3, 3))
     edge = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).max(axis=1)
-    h = min((float(edge[facets[:, 0] == g].max()) for g in np.unique(facets[:, 0])),
-            default=0.0)  # fmt: skip
+    h = min((float(edge[facets[:, 0] == g].max()) for g in np.unique(facets[:, 0])), default=0.0)
     b = gear.face_width
     band = face_end_band(gear, h)
     half = max(0.5 * b - band, 0.0)  # the critical line over the interior (as the surface max)
@@ -358,8 +364,13 @@ def body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]],
             i = int(sel[np.argmax(s1[sel])])
             t, side, _ = groups[gid[i]]
             x = nodes[i, 1:4]
-            rec.update(value=float(s1[i]), tooth=int(t), side=side, z_mm=float(x[2]),
-                       radius_mm=float(np.linalg.norm(x[:2])))  # fmt: skip
+            rec.update(
+                value=float(s1[i]),
+                tooth=int(t),
+                side=side,
+                z_mm=float(x[2]),
+                radius_mm=float(np.linalg.norm(x[:2])),
+            )
         else:
             rec.update(value=None, tooth=None, side=None, z_mm=None, radius_mm=None)
         ends = np.flatnonzero(on & end)
@@ -377,12 +388,18 @@ def body_root_stress(body, u, gear, keyed_teeth: dict[str, list[int]],
             if vals[k] > best[0]:
                 best = (float(vals[k]), t, side, float(z[k]), float(dist.max()))
         v, t, side, zk, dmax = best
-        rec.update(tangent=v if t is not None else None, tangent_tooth=t, tangent_side=side,
-                   tangent_z_mm=zk, tangent_surface_offset_mm=dmax)  # fmt: skip
+        rec.update(
+            tangent=v if t is not None else None,
+            tangent_tooth=t,
+            tangent_side=side,
+            tangent_z_mm=zk,
+            tangent_surface_offset_mm=dmax,
+        )
         cells_v = [c[(t, s)] for c in cell_all for (t, s) in c if t in teeth]
         rec["cell_max"] = max(cells_v) if cells_v else None
-        rec["recovered"] = recovered_maxima(gear, groups, gsel, nodes, tensors, facets,
-                                            ~end & ~near, z)  # fmt: skip
+        rec["recovered"] = recovered_maxima(
+            gear, groups, gsel, nodes, tensors, facets, ~end & ~near, z
+        )
         out[key] = rec
     return out
 
@@ -394,9 +411,19 @@ def recovered_maxima(gear, groups, gsel, nodes, tensors, facets, usable, z) -> d
     ``z``: values (MPa), tooth, side, z and radius as in :func:`body_root_stress`, and the
     strip spacings (h_s, h_z) of the group of the surface maximum. None where no strip
     gives a posed fit."""
-    rec = dict(value=None, tooth=None, side=None, z_mm=None, radius_mm=None, tangent=None,
-               tangent_tooth=None, tangent_side=None, tangent_z_mm=None, h_s_mm=None,
-               h_z_mm=None)  # fmt: skip
+    rec = dict(
+        value=None,
+        tooth=None,
+        side=None,
+        z_mm=None,
+        radius_mm=None,
+        tangent=None,
+        tangent_tooth=None,
+        tangent_side=None,
+        tangent_z_mm=None,
+        h_s_mm=None,
+        h_z_mm=None,
+    )
     if not gsel:
         return rec
     curve = fillet_curve(gear)
@@ -422,8 +449,15 @@ def recovered_maxima(gear, groups, gsel, nodes, tensors, facets, usable, z) -> d
         if ok.size and s1.max() > best_s:
             best_s = float(s1.max())
             x = nodes[idx[k], 1:4]
-            rec.update(value=best_s, tooth=int(t), side=side, z_mm=float(x[2]),
-                       radius_mm=float(np.linalg.norm(x[:2])), h_s_mm=h_s, h_z_mm=h_z)  # fmt: skip
+            rec.update(
+                value=best_s,
+                tooth=int(t),
+                side=side,
+                z_mm=float(x[2]),
+                radius_mm=float(np.linalg.norm(x[:2])),
+                h_s_mm=h_s,
+                h_z_mm=h_z,
+            )
         at = np.c_[np.full(len(z), s_iso), z]
         lt = recover(sz, tensors[idx], at, h_s, h_z)
         ok = np.isfinite(lt).all(axis=(1, 2))
@@ -432,8 +466,12 @@ def recovered_maxima(gear, groups, gsel, nodes, tensors, facets, usable, z) -> d
             j = int(np.argmax(v))
             if v[j] > best_t:
                 best_t = float(v[j])
-                rec.update(tangent=best_t, tangent_tooth=int(t), tangent_side=side,
-                           tangent_z_mm=float(at[ok][j, 1]))  # fmt: skip
+                rec.update(
+                    tangent=best_t,
+                    tangent_tooth=int(t),
+                    tangent_side=side,
+                    tangent_z_mm=float(at[ok][j, 1]),
+                )
     return rec
 
 

@@ -185,8 +185,11 @@ class SubmodelBody:
             opts = PETSc.Options()
             pre = f"submodel_{id(self)}_"
             self.ksp.setOptionsPrefix(pre)
-            sets = {"pc_gamg_threshold": SUBMODEL_GAMG_THRESHOLD,
-                    "mg_levels_ksp_type": "chebyshev", "mg_levels_pc_type": "jacobi"}  # fmt: skip
+            sets = {
+                "pc_gamg_threshold": SUBMODEL_GAMG_THRESHOLD,
+                "mg_levels_ksp_type": "chebyshev",
+                "mg_levels_pc_type": "jacobi",
+            }
             for k, v in sets.items():
                 opts[pre + k] = v
             self.ksp.setFromOptions()
@@ -251,8 +254,11 @@ class SubmodelBody:
             phi = elem.tabulate(0, X[own])[0, :, :, 0]
             dofs = self.V.dofmap.list[cells[own]]
             fv = f.x.array.reshape(-1, self.gdim)
-            np.add.at(fv, dofs.ravel(), (phi[:, :, None] * (forces[own] @ Q)[:, None, :])
-                      .reshape(-1, self.gdim))  # fmt: skip
+            np.add.at(
+                fv,
+                dofs.ravel(),
+                (phi[:, :, None] * (forces[own] @ Q)[:, None, :]).reshape(-1, self.gdim),
+            )
         # ghost entries reach their owners once, in the ghost update after the lifting
         b = f.x.petsc_vec
         dolfinx.fem.petsc.apply_lifting(b, [self.a], bcs=[[self.bc]])
@@ -273,8 +279,11 @@ class SubmodelBody:
             )
         self.iterations = int(self.ksp.getIterationNumber())
         u.x.scatter_forward()
-        self.solve_timings = {"cut_s": t_cut - t0, "loads_s": t_rhs - t_cut,
-                              "krylov_s": time.perf_counter() - t_rhs}  # fmt: skip
+        self.solve_timings = {
+            "cut_s": t_cut - t0,
+            "loads_s": t_rhs - t_cut,
+            "krylov_s": time.perf_counter() - t_rhs,
+        }
         return u
 
 
@@ -325,11 +334,12 @@ def tooth_run(key: str, teeth, z: int) -> tuple[int, int]:
     return starts[0], len(ts)
 
 
-def sector_teeth(scene, study, spacing: float, width=None, micro=None) -> dict[str, int]:
+def sector_teeth(scene, inputs, spacing: float, width=None, micro=None) -> dict[str, int]:
     """Per output key how many teeth the drive grid of its mesh names in ``scene`` (the teeth
     :func:`submodel_root_stress` reads there), from the grids :func:`build_gear_train
-    <solvers.gear_train.build_gear_train>` lays with the same settings, without the FE."""
-    grids, _ = contact_grids(scene, study, spacing, width, micro, coast=False)
+    <solvers.gear_train.build_gear_train>` lays with the same ``inputs``
+    (:class:`solvers.train_inputs.TrainInputs`), without the FE."""
+    grids, _ = contact_grids(scene, inputs, spacing, width, micro, coast=False)
     return {key: len(ts) for key, ts in grid_teeth(scene, grids).items()}
 
 
@@ -366,10 +376,15 @@ def read_for(key: str, set_key: dict[str, str], read: set[str]) -> str:
     return next(k for k in sorted(read) if set_key.get(k, k) == set_key.get(key, key))
 
 
-def submodel_root_stress(model, result, level, store: BodyStore | None = None,
-                         degree: int = SUBMODEL_DEGREE,
-                         sector: dict[str, int] | None = None,
-                         log: Callable[[str], None] | None = None) -> dict:  # fmt: skip
+def submodel_root_stress(
+    model,
+    result,
+    level,
+    store: BodyStore | None = None,
+    degree: int = SUBMODEL_DEGREE,
+    sector: dict[str, int] | None = None,
+    log: Callable[[str], None] | None = None,
+) -> dict:
     """The root stress of a solved gear train read on submodels of its loaded teeth
     (module docstring), in the layout of :func:`solvers.root_stress.root_stress`; every
     key's ``locations`` also hold ``submodel``: its DOFs, read-fillet size, degree, sector
@@ -410,9 +425,15 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
     recs = {}
     for key, (body, side, gear, first, n, loads) in runs.items():
         if key not in read:
-            recs[key] = {"value": None, "tangent": None, "cell_max": None, "face_end": None,
-                         "teeth": list(teeth[key]), "load_N": load_n[key],
-                         "read_instead": read_for(key, to_set, read)}  # fmt: skip
+            recs[key] = {
+                "value": None,
+                "tangent": None,
+                "cell_max": None,
+                "face_end": None,
+                "teeth": list(teeth[key]),
+                "load_N": load_n[key],
+                "read_instead": read_for(key, to_set, read),
+            }
             continue
         z = gear.teeth
         try:
@@ -422,14 +443,25 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         gb = p.bodies[body]
         mat = gb.material
         # keyed without E: a gear set of another modulus reads on the same sector
-        skey = ("submodel", json.dumps(body_params(sb, level_record(lv)), sort_keys=True),
-                degree, mat.nu)  # fmt: skip
+        skey = (
+            "submodel",
+            json.dumps(body_params(sb, level_record(lv)), sort_keys=True),
+            degree,
+            mat.nu,
+        )
 
         def make(sb=sb, mat=mat, internal=gear.internal, comm=gb.comm):
             bundle = load_body(sb, lv, comm)
             tags = {nm: tg for nm, (d, tg) in bundle.names.items() if d == 2}
-            return SubmodelBody(sb.body, bundle.mesh, bundle.facet_tags, tags, mat, degree,
-                                cut_names(sb.body, internal))  # fmt: skip
+            return SubmodelBody(
+                sb.body,
+                bundle.mesh,
+                bundle.facet_tags,
+                tags,
+                mat,
+                degree,
+                cut_names(sb.body, internal),
+            )
 
         built = store.built
         sub = with_material(store.keep(skey, make), mat, ScaledSubmodel)
@@ -448,23 +480,33 @@ def submodel_root_stress(model, result, level, store: BodyStore | None = None,
         rec["teeth"] = list(teeth[key])
         rec["load_N"] = load_n[key]
         rec["submodel"] = {
-            "dofs": sub.dofs, "fillet_mm": lv.fillet, "degree": degree,
-            "first_tooth": int(start % z), "teeth": n + 2 * SUBMODEL_MARGIN,
+            "dofs": sub.dofs,
+            "fillet_mm": lv.fillet,
+            "degree": degree,
+            "first_tooth": int(start % z),
+            "teeth": n + 2 * SUBMODEL_MARGIN,
             "load_N": load_n[key],
-            "setup_s": sub.timings["factorize"], "set_up_here": store.built > built,
-            "solve_s": time.perf_counter() - t0, "iterations": sub.iterations,
-            **sub.solve_timings, "read_s": time.perf_counter() - t_read,
-        }  # fmt: skip
+            "setup_s": sub.timings["factorize"],
+            "set_up_here": store.built > built,
+            "solve_s": time.perf_counter() - t0,
+            "iterations": sub.iterations,
+            **sub.solve_timings,
+            "read_s": time.perf_counter() - t_read,
+        }
         recs[key] = rec
         if log is not None:
             m = rec["submodel"]
-            log(f"submodel {key}, fillet {lv.fillet:g} mm: {m['dofs']} DOFs, set-up "
+            log(
+                f"submodel {key}, fillet {lv.fillet:g} mm: {m['dofs']} DOFs, set-up "
                 f"{m['setup_s']:.0f} s{'' if m['set_up_here'] else ' (kept)'}, solve "
-                f"{m['solve_s']:.0f} s, {m['iterations']} iterations")  # fmt: skip
+                f"{m['solve_s']:.0f} s, {m['iterations']} iterations"
+            )
         del sub, u  # a submodel the store does not keep is freed before the next is built
-    method = (f"P{degree} submodel of the loaded teeth (read fillets {lv.fillet:g} mm), driven "
-              "by the global displacement; cell stress at the fillet vertices, averaged over "
-              "the surface cells")  # fmt: skip
+    method = (
+        f"P{degree} submodel of the loaded teeth (read fillets {lv.fillet:g} mm), driven "
+        "by the global displacement; cell stress at the fillet vertices, averaged over "
+        "the surface cells"
+    )
     return collect(scene, recs, method)
 
 

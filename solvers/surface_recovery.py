@@ -104,8 +104,15 @@ def strip_spacings(sz: np.ndarray, triangles: np.ndarray) -> tuple[float, float]
     return h_s, h_z
 
 
-def recover(sz: np.ndarray, tensors: np.ndarray, at: np.ndarray, h_s: float, h_z: float,
-            across: float = ACROSS, along: float = ALONG) -> np.ndarray:  # fmt: skip
+def recover(
+    sz: np.ndarray,
+    tensors: np.ndarray,
+    at: np.ndarray,
+    h_s: float,
+    h_z: float,
+    across: float = ACROSS,
+    along: float = ALONG,
+) -> np.ndarray:
     """Recovered tensors (p, 3, 3) at the points ``at`` (p, 2) in (s, z) from the nodes
     ``sz`` (n, 2) with tensors (n, 3, 3) (module docstring); NaN where the fit is not
     posed."""

@@ -36,10 +36,13 @@ def run(out: Path, study: str | Path = "singh2007") -> dict[str, Path]:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog="python -m studies.analytic", description=__doc__)
-    parser.add_argument("--out", type=Path, default=Path("results/analytic"),
-                        help="output directory (default: results/analytic)")  # fmt: skip
-    parser.add_argument("--study", default="singh2007",
-                        help="a name in cases/analytic/ or a path")  # fmt: skip
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("results/analytic"),
+        help="output directory (default: results/analytic)",
+    )
+    parser.add_argument("--study", default="singh2007", help="a name in cases/analytic/ or a path")
     args = parser.parse_args(argv)
     for path in run(args.out, args.study).values():
         print(path)

@@ -58,6 +58,7 @@ from postprocess.train_results import train_results
 from solvers.body_store import BodyStore
 from solvers.flank_grid import is_coast
 from solvers.gear_train import build_gear_train
+from studies.position import train_inputs
 
 MOMENTS = ("My_pin", "M_LOA_sun", "M_LOA_ring", "ZS", "ZR")
 
@@ -201,9 +202,14 @@ def run_case(case, model_name, level, roll, factors, comm, store) -> dict:
     meshes = load_body_meshes(scene, level, comm, store.mesh_memo)
     t1 = time.perf_counter()
     model = build_gear_train(
-        scene, meshes, study, degree=num.degree, spacing=spacing,
-        penalty_factor=num.penalty_factor, store=store,
-    )  # fmt: skip
+        scene,
+        meshes,
+        train_inputs(study),
+        degree=num.degree,
+        spacing=spacing,
+        penalty_factor=num.penalty_factor,
+        store=store,
+    )
     p = model.problem
     rows, first = {}, None
     # the case's factor first: its columns and seconds are the cost of a position
@@ -220,8 +226,10 @@ def run_case(case, model_name, level, roll, factors, comm, store) -> dict:
         rows[f]["resultant_mismatch_rel"] = train["resultant_mismatch_rel"]
         rows[f]["mesh_force_on_pinion_N"] = _mesh_forces(model, res)
         if f == num.penalty_factor:
-            cost = {"columns": int(p.timings["compliance_columns"]),
-                    "compliance_s": float(p.timings["compliance"])}  # fmt: skip
+            cost = {
+                "columns": int(p.timings["compliance_columns"]),
+                "compliance_s": float(p.timings["compliance"]),
+            }
             first = (res, te - t1, dict(res.timings))
     res, wall, timings = first
     coast = [pr for pr in p.pairs if is_coast(pr.grid.name)]

@@ -48,8 +48,11 @@ def _moments(scalars: dict) -> list[str]:
 
 def _solver_numerics(solver: str, tolerances: dict[str, float]) -> dict:
     kind = solver.removesuffix(OOC)
-    return {"linear_solver": kind, "linear_tolerance": tolerances.get(kind),
-            "out_of_core": solver.endswith(OOC)}  # fmt: skip
+    return {
+        "linear_solver": kind,
+        "linear_tolerance": tolerances.get(kind),
+        "out_of_core": solver.endswith(OOC),
+    }
 
 
 def _tolerance(solver: str, given: float | None) -> float | None:
@@ -127,10 +130,16 @@ def bench(args) -> Path:
         for s in solvers:
             num = _solver_numerics(s, tolerances)
             if s == "cg-gamg" and level > args.iterative_max_level:
-                rows.append({"level": level, "solver": s, "tolerance": _tolerance(s, None),
-                             "error": f"not run: level > --iterative-max-level "
-                                      f"{args.iterative_max_level} (every column an iterative "
-                                      "solve, 8-30x the LU's time)"})  # fmt: skip
+                rows.append(
+                    {
+                        "level": level,
+                        "solver": s,
+                        "tolerance": _tolerance(s, None),
+                        "error": f"not run: level > --iterative-max-level "
+                        f"{args.iterative_max_level} (every column an iterative "
+                        "solve, 8-30x the LU's time)",
+                    }
+                )
                 continue
             print(f"level {level}, {s} ...", flush=True)
             cli = ["--one", args.case, str(level), json.dumps(num)]

@@ -160,19 +160,33 @@ def build_deck(case: str, level: int, roll: float, penalty_factor: float, k_stab
     k = bearing_stiffness(study.bearing)
     torque = sun_torque(study.gearset, scene.branches)
     couplings = [
-        P.Coupling("sun", sun, f"{sun}/bore", (0.0, 0.0, 0.0), fixed=(1, 2, 3, 4, 5),
-                   springs={6: k_stab}, load={6: torque}),
-        P.Coupling("pin", pin, f"{pin}/bore", centre,
-                   springs={1: k[0], 2: k[1], 3: k[2], 4: k[3], 5: k[4], 6: k_stab}),
-    ]  # fmt: skip
+        P.Coupling(
+            "sun",
+            sun,
+            f"{sun}/bore",
+            (0.0, 0.0, 0.0),
+            fixed=(1, 2, 3, 4, 5),
+            springs={6: k_stab},
+            load={6: torque},
+        ),
+        P.Coupling(
+            "pin",
+            pin,
+            f"{pin}/bore",
+            centre,
+            springs={1: k[0], 2: k[1], 3: k[2], 4: k[3], 5: k[4], 6: k_stab},
+        ),
+    ]
     pairs, flank_tags = [], {}
     for zn in scene.zones:
         drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
         for kind, z in (("drive", zn), ("coast", coast_zone(zn, drv, dvn))):
-            a = sorted({f"{zn.driver}/tooth{i:02d}/flank_{z.driver_side}"
-                        for i, _, _ in z.contact_lines})  # fmt: skip
-            b = sorted({f"{zn.driven}/tooth{j:02d}/flank_{z.driven_side}"
-                        for _, j, _ in z.contact_lines})  # fmt: skip
+            a = sorted(
+                {f"{zn.driver}/tooth{i:02d}/flank_{z.driver_side}" for i, _, _ in z.contact_lines}
+            )
+            b = sorted(
+                {f"{zn.driven}/tooth{j:02d}/flank_{z.driven_side}" for _, j, _ in z.contact_lines}
+            )
             a = [t for t in a if t in by[zn.driver].facets]
             b = [t for t in b if t in by[zn.driven].facets]
             if not a or not b:
@@ -191,8 +205,16 @@ def build_deck(case: str, level: int, roll: float, penalty_factor: float, k_stab
     h = sizing.check_level(level).fine
     e_star = E / (2.0 * (1.0 - nu**2))
     penalty = penalty_factor * e_star / h
-    deck = P.Deck(bodies, E, nu, couplings, [(ring, f"{ring}/rim")], pairs, penalty=penalty,
-                  preload=("sun", 6, PRELOAD_ROTATION))  # fmt: skip
+    deck = P.Deck(
+        bodies,
+        E,
+        nu,
+        couplings,
+        [(ring, f"{ring}/rim")],
+        pairs,
+        penalty=penalty,
+        preload=("sun", 6, PRELOAD_ROTATION),
+    )
     return study, scene, deck, flank_tags, centre
 
 
@@ -242,7 +264,7 @@ def ccx_reduce(study, scene, deck, info, flank_tags, centre, job: Path, u: dict)
             res["cf_force_mismatch"] = float(
                 np.linalg.norm(np.subtract(res["force_N"], cf["force_N"]))
                 / max(np.linalg.norm(cf["force_N"]), 1e-9)
-            )  # fmt: skip
+            )
         res["per_flank_N"] = {  # tooth load sharing: normal force per flank facet group
             t: P.flank_resultant(by[body], [t], forces[body], centre)["normal_force_N"]
             for t in tags
@@ -261,8 +283,9 @@ def ccx_reduce(study, scene, deck, info, flank_tags, centre, job: Path, u: dict)
     # springs' k q differ from it by ccx's finite-rotation rigid-body MPCs, O(tilt x load))
     out["Mx_pin"], out["My_pin"] = out["contact_moment_pinion_Nm"][:2]
     geo = single_pinion_geometry(study.gearset.planetary_input())
-    out["M_LOA_sun"], out["M_LOA_ring"] = sp.loa_moments(out["Mx_pin"], out["My_pin"],
-                                                          geo.alpha1, geo.alpha2)  # fmt: skip
+    out["M_LOA_sun"], out["M_LOA_ring"] = sp.loa_moments(
+        out["Mx_pin"], out["My_pin"], geo.alpha1, geo.alpha2
+    )
     out["contact_force_pinion_N"] = (Q @ f_contact).tolist()
     # equilibrium of the pinion: its flank forces = the bearing springs' k q (tilt: x, y)
     out["equilibrium"] = {
@@ -276,8 +299,10 @@ def ccx_reduce(study, scene, deck, info, flank_tags, centre, job: Path, u: dict)
     out["facet_sag_um"] = {}
     for name, (body, tags) in flank_tags.items():
         pair = next(p for p in deck.pairs if p.slave == (body, tags))
-        sag = {role: 1e3 * P.facet_sag(by[b], t)
-               for role, (b, t) in (("slave", pair.slave), ("master", pair.master))}  # fmt: skip
+        sag = {
+            role: 1e3 * P.facet_sag(by[b], t)
+            for role, (b, t) in (("slave", pair.slave), ("master", pair.master))
+        }
         out["facet_sag_um"][name] = {
             f"{role}_{q}": float(f(v))
             for role, v in sag.items()
@@ -287,8 +312,9 @@ def ccx_reduce(study, scene, deck, info, flank_tags, centre, job: Path, u: dict)
     ip = comps.index("CPRESS")
     out["peak_cpress_MPa"] = float(max(v[ip] for v in data.values()))
     out["peak_penetration_um"] = float(-1e3 * min(v[comps.index("COPEN")] for v in data.values()))
-    out["contact_area_mm2"] = {m: r["ccx_cf"]["area_mm2"] for m, r in meshes.items()
-                               if "ccx_cf" in r}  # fmt: skip
+    out["contact_area_mm2"] = {
+        m: r["ccx_cf"]["area_mm2"] for m, r in meshes.items() if "ccx_cf" in r
+    }
     return out
 
 
@@ -315,16 +341,24 @@ def ccx_root_stress(scene, level: int, deck, u: dict, ours_bs: dict) -> dict:
         if len(xd) != len(b.local) or not np.allclose(xd[order_d], b.local[order_c], atol=1e-6):
             raise ValueError(f"{name}: the ccx body and our mesh do not have the same nodes")
         a = -scene.gear(name).placement.angle  # scene -> body frame
-        R = np.array([[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0],
-                      [0.0, 0.0, 1.0]])  # fmt: skip
+        R = np.array(
+            [[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0], [0.0, 0.0, 1.0]]
+        )
         ub = np.array([u[n] for n in range(b.node0 + 1, b.node0 + len(b.points) + 1)]) @ R.T
         fn = dolfinx.fem.Function(V)
         vals = np.empty_like(xd)
         vals[order_d] = ub[order_c]
         fn.x.array[:] = vals.ravel()
-        body = SimpleNamespace(name=name, mesh=mesh, facet_tags=bm.bundle.facet_tags,
-                               tags=bm.tags, comm=MPI.COMM_SELF, gdim=3, degree=1,
-                               material=Material(deck.E, deck.nu))  # fmt: skip
+        body = SimpleNamespace(
+            name=name,
+            mesh=mesh,
+            facet_tags=bm.bundle.facet_tags,
+            tags=bm.tags,
+            comm=MPI.COMM_SELF,
+            gdim=3,
+            degree=1,
+            material=Material(deck.E, deck.nu),
+        )
         recs = RS.body_root_stress(body, fn, scene.gear(name).gear, keys)
         for k, rec in recs.items():
             lo = locs[k]
@@ -342,8 +376,7 @@ def _value_at(body, fn, loc: dict) -> float | None:
         return None
     nodes, tensors, _ = RS.surface_values(body, fn, [body.facet_tags.find(tag)])
     x = nodes[:, 1:4]
-    d = np.abs(x[:, 2] - loc["z_mm"]) + np.abs(np.linalg.norm(x[:, :2], axis=1)
-                                               - loc["radius_mm"])  # fmt: skip
+    d = np.abs(x[:, 2] - loc["z_mm"]) + np.abs(np.linalg.norm(x[:, :2], axis=1) - loc["radius_mm"])
     return float(RS.max_principal(tensors[int(np.argmin(d))]))
 
 
@@ -390,11 +423,11 @@ def run_ccx(exe: str, job: Path, deck, threads: int, reuse: bool) -> tuple[dict,
     if reuse and old == inp.read_text() and runfile.exists() and job.with_suffix(".dat").exists():
         print(f"{job.name}: ccx result of the same deck kept", flush=True)
         return info, json.loads(runfile.read_text())
-    env = {**os.environ, "OMP_NUM_THREADS": str(threads),
-           "CCX_NPROC_EQUATION_SOLVER": str(threads)}  # fmt: skip
+    env = {**os.environ, "OMP_NUM_THREADS": str(threads), "CCX_NPROC_EQUATION_SOLVER": str(threads)}
     print(f"{job.name}: ccx ({info['fe_nodes']} nodes) ...", flush=True)
-    rc = run_measured([exe, "-i", job.name], cwd=job.parent, env=env,
-                      log=job.parent / f"{job.name}-ccx.log")  # fmt: skip
+    rc = run_measured(
+        [exe, "-i", job.name], cwd=job.parent, env=env, log=job.parent / f"{job.name}-ccx.log"
+    )
     runfile.write_text(json.dumps(rc, indent=1))
     return info, rc
 
@@ -419,8 +452,10 @@ def _table(o: dict, c: dict) -> list[str]:
         )
     for key in CENTROIDS:
         md.append(f"| {key} (mm) | {o[key]:.3f} | {c[key]:.3f} | {o[key] - c[key]:+.3f} mm |")
-    md.append(f"| Mx/My_pin from ccx's bearing springs k q (N m) | | "
-              f"{c['spring_Mx_pin']:.3f} / {c['spring_My_pin']:.3f} | |")  # fmt: skip
+    md.append(
+        f"| Mx/My_pin from ccx's bearing springs k q (N m) | | "
+        f"{c['spring_Mx_pin']:.3f} / {c['spring_My_pin']:.3f} | |"
+    )
     for mesh, fo in o["mesh_normal_force_N"].items():
         m = c["meshes"].get(mesh, {})
         cf = m.get("ccx_cf", {}).get("normal_force_N", float("nan"))
@@ -432,12 +467,16 @@ def _table(o: dict, c: dict) -> list[str]:
         m = c["meshes"].get(f"{mesh}/coast", {})
         md.append(f"| coast force {mesh} (N) | {fo:.0f} | {m.get('normal_force_N', 0):.0f} | |")
     fo, fc = o["pinion_force_N"], c["contact_force_pinion_N"]
-    md.append(f"| pinion force X/Y/Z (N) | {fo[0]:.0f} / {fo[1]:.0f} / {fo[2]:.0f} | "
-              f"{fc[0]:.0f} / {fc[1]:.0f} / {fc[2]:.0f} | |")  # fmt: skip
+    md.append(
+        f"| pinion force X/Y/Z (N) | {fo[0]:.0f} / {fo[1]:.0f} / {fo[2]:.0f} | "
+        f"{fc[0]:.0f} / {fc[1]:.0f} / {fc[2]:.0f} | |"
+    )
     area = sum(c.get("contact_area_mm2", {}).values())
-    md.append(f"| peak contact pressure (MPa) | {o['peak_hertz_MPa']:.0f} (Hertz, grid line "
-              f"load) | {c['peak_cpress_MPa']:.0f} (CPRESS: penalty x nodal penetration) | "
-              "not like for like |")  # fmt: skip
+    md.append(
+        f"| peak contact pressure (MPa) | {o['peak_hertz_MPa']:.0f} (Hertz, grid line "
+        f"load) | {c['peak_cpress_MPa']:.0f} (CPRESS: penalty x nodal penetration) | "
+        "not like for like |"
+    )
     md.append(f"| contact area, all flanks (mm^2) | | {area:.2f} (ccx CF) | |")
     return md
 
@@ -446,11 +485,15 @@ def _root_table(o: dict, c: dict) -> list[str]:
     ob, cb = o.get("bending_stress"), c.get("bending_stress")
     if not ob or not cb:
         return []
-    md = ["", "Root stress (max principal, MPa; our `solvers.root_stress` on both displacement "
-          "fields, the fillets of the same loaded teeth; where: tooth, side, z mm):", "",
-          "| fillet | ours: surface max (where) | ccx: surface max (where) | ours / ccx - 1 | "
-          "ours: ISO tangent line | ccx: tangent line | ours / ccx - 1 | ccx at our max |",
-          "|---|---|---|---|---|---|---|---|"]  # fmt: skip
+    md = [
+        "",
+        "Root stress (max principal, MPa; our `solvers.root_stress` on both displacement "
+        "fields, the fillets of the same loaded teeth; where: tooth, side, z mm):",
+        "",
+        "| fillet | ours: surface max (where) | ccx: surface max (where) | ours / ccx - 1 | "
+        "ours: ISO tangent line | ccx: tangent line | ours / ccx - 1 | ccx at our max |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for k, rec in cb.items():
         ov, ot = ob.get(k), ob.get("tangent", {}).get(k)
         lo = ob["locations"][k]
@@ -466,8 +509,9 @@ def _root_table(o: dict, c: dict) -> list[str]:
 
 
 def write_report(rows: list[dict], out: Path, notes: dict, why: list[str] | None = None) -> None:
-    (out / "peer.json").write_text(json.dumps({"notes": notes, "runs": rows, "why": why or []},
-                                              indent=1, default=float))  # fmt: skip
+    (out / "peer.json").write_text(
+        json.dumps({"notes": notes, "runs": rows, "why": why or []}, indent=1, default=float)
+    )
     md = ["# Peer cross-check: our contact solver against CalculiX on the same meshes", ""]
     md += [f"- {k}: {v}" for k, v in notes.items()]
     for r in rows:
@@ -478,39 +522,64 @@ def write_report(rows: list[dict], out: Path, notes: dict, why: list[str] | None
             continue
         md += _table(o, c)
         eq = c["equilibrium"]
-        cfm = max((m.get("cf_force_mismatch", float("nan")) for m in c["meshes"].values()
-                   if m["normal_force_N"] > 100), default=float("nan"))  # fmt: skip
+        cfm = max(
+            (
+                m.get("cf_force_mismatch", float("nan"))
+                for m in c["meshes"].values()
+                if m["normal_force_N"] > 100
+            ),
+            default=float("nan"),
+        )
         tilt = math.hypot(*c["tilt_rad"][:2])
-        md += ["", f"Read-back checks: the pinion's flank forces (K u at its flank nodes) "
-               f"balance its bearing springs to {eq['force_mismatch_N']:.2f} N and "
-               f"{eq['tilt_moment_mismatch_Nm']:.3f} N m (at a tilt of {tilt:.2e} rad: ccx's "
-               "rigid bore is a nonlinear, finite-rotation MPC, ours linear); per loaded pair "
-               f"they match ccx's own CF totals to {cfm * 100:.3f} %."]  # fmt: skip
+        md += [
+            "",
+            f"Read-back checks: the pinion's flank forces (K u at its flank nodes) "
+            f"balance its bearing springs to {eq['force_mismatch_N']:.2f} N and "
+            f"{eq['tilt_moment_mismatch_Nm']:.3f} N m (at a tilt of {tilt:.2e} rad: ccx's "
+            "rigid bore is a nonlinear, finite-rotation MPC, ours linear); per loaded pair "
+            f"they match ccx's own CF totals to {cfm * 100:.3f} %.",
+        ]
         md += _root_table(o, c)
         sw = r.get("ccx_penalty_sweep")
         if sw:
-            md += ["", "CalculiX penalty sweep (ours at its default):", "",
-                   "| ccx penalty (E*/h) | " + " | ".join(MOMENTS + CENTROIDS) + " |",
-                   "|---" * (1 + len(MOMENTS) + len(CENTROIDS)) + "|"]  # fmt: skip
+            md += [
+                "",
+                "CalculiX penalty sweep (ours at its default):",
+                "",
+                "| ccx penalty (E*/h) | " + " | ".join(MOMENTS + CENTROIDS) + " |",
+                "|---" * (1 + len(MOMENTS) + len(CENTROIDS)) + "|",
+            ]
             for f, v in sorted(sw.items(), key=lambda kv: float(kv[0])):
-                md.append(f"| {float(f):g} | " + " | ".join(
-                    f"{v[k]:.3f}" for k in MOMENTS + CENTROIDS) + " |")  # fmt: skip
+                md.append(
+                    f"| {float(f):g} | "
+                    + " | ".join(f"{v[k]:.3f}" for k in MOMENTS + CENTROIDS)
+                    + " |"
+                )
         md += ["", "| | ours | CalculiX | ratio ccx / ours |", "|---|---|---|---|"]
         ro, rc = r["ours_run"], r["ccx_run"]
-        md.append(f"| process wall time (s) | {ro['wall_s']:.1f} | {rc['wall_s']:.1f} | "
-                  f"{rc['wall_s'] / ro['wall_s']:.2f} |")  # fmt: skip
-        md.append(f"| process CPU time, user + system (s) | {ro['cpu_s']:.1f} | "
-                  f"{rc['cpu_s']:.1f} | {rc['cpu_s'] / ro['cpu_s']:.2f} |")  # fmt: skip
+        md.append(
+            f"| process wall time (s) | {ro['wall_s']:.1f} | {rc['wall_s']:.1f} | "
+            f"{rc['wall_s'] / ro['wall_s']:.2f} |"
+        )
+        md.append(
+            f"| process CPU time, user + system (s) | {ro['cpu_s']:.1f} | "
+            f"{rc['cpu_s']:.1f} | {rc['cpu_s'] / ro['cpu_s']:.2f} |"
+        )
         md.append(
             f"| solve_position / ccx wall (s) | {o['solve_position_wall_s']:.1f} | "
             f"{rc['wall_s']:.1f} | {rc['wall_s'] / o['solve_position_wall_s']:.2f} |"
         )
-        md.append(f"| peak memory (MB) | {ro['peak_rss_MB']:.0f} | {rc['peak_rss_MB']:.0f} | "
-                  f"{rc['peak_rss_MB'] / ro['peak_rss_MB']:.2f} |")  # fmt: skip
+        md.append(
+            f"| peak memory (MB) | {ro['peak_rss_MB']:.0f} | {rc['peak_rss_MB']:.0f} | "
+            f"{rc['peak_rss_MB'] / ro['peak_rss_MB']:.2f} |"
+        )
         md.append(f"| DOFs | {o['dofs']} | {r['ccx_dofs']} | |")
         s = c["stab_share_of_torque"]
-        md += ["", f"Stabilising springs carry {s['sun'] * 100:.2e} % (sun) and "
-               f"{s['pinion'] * 100:.2e} % (pinion spin) of the sun torque."]  # fmt: skip
+        md += [
+            "",
+            f"Stabilising springs carry {s['sun'] * 100:.2e} % (sun) and "
+            f"{s['pinion'] * 100:.2e} % (pinion spin) of the sun torque.",
+        ]
     if why:
         md += ["", "## Why they differ", "", *why]
     (out / "peer.md").write_text("\n".join(md) + "\n")
@@ -528,11 +597,13 @@ def main(argv=None) -> int:
         default=100.0,
         help="ccx penalty slope = factor E*/h (ours: the same law, default 100)",
     )
-    ap.add_argument("--k-stab", type=float, default=1.0e3,
-                    help="ccx stabilising torsional springs (N mm/rad)")  # fmt: skip
+    ap.add_argument(
+        "--k-stab", type=float, default=1.0e3, help="ccx stabilising torsional springs (N mm/rad)"
+    )
     ap.add_argument("--threads", type=int, default=1, help="ccx OMP threads (ours: serial)")
-    ap.add_argument("--ours", nargs=4, metavar=("CASE", "LEVEL", "ROLL", "JSON"),
-                    help=argparse.SUPPRESS)  # fmt: skip
+    ap.add_argument(
+        "--ours", nargs=4, metavar=("CASE", "LEVEL", "ROLL", "JSON"), help=argparse.SUPPRESS
+    )
     ap.add_argument("--report-only", action="store_true", help="rewrite peer.md from peer.json")
     ap.add_argument(
         "--reuse-ccx",
@@ -570,8 +641,16 @@ def main(argv=None) -> int:
         for level in a.levels:
             tag = f"{case}-L{level}"
             jo = work / f"{tag}-ours.json"
-            cmd = [sys.executable, "-m", "studies.bench_peer", "--ours", case, str(level),
-                   repr(a.roll), str(jo)]  # fmt: skip
+            cmd = [
+                sys.executable,
+                "-m",
+                "studies.bench_peer",
+                "--ours",
+                case,
+                str(level),
+                repr(a.roll),
+                str(jo),
+            ]
             env = {**os.environ, "OMP_NUM_THREADS": "1"}
             print(f"{tag}: ours ...", flush=True)
             ro = run_measured(cmd, env=env, log=work / f"{tag}-ours.log")
@@ -579,13 +658,21 @@ def main(argv=None) -> int:
                 raise SystemExit(f"error: our solve of {tag} failed: see {work / tag}-ours.log")
             o = json.loads(jo.read_text())
             print(f"{tag}: ours {ro['wall_s']:.1f} s; writing the CalculiX deck ...", flush=True)
-            study, scene, deck, tags, centre = build_deck(case, level, a.roll, a.penalty_factor,
-                                                          a.k_stab)  # fmt: skip
+            study, scene, deck, tags, centre = build_deck(
+                case, level, a.roll, a.penalty_factor, a.k_stab
+            )
             job = work / tag
             info, rc = run_ccx(exe, job, deck, a.threads, a.reuse_ccx)
-            row = {"case": case, "level": level, "roll": a.roll, "ours": o, "ours_run": ro,
-                   "ccx_run": rc, "ccx_dofs": 3 * info["fe_nodes"],
-                   "penalty_MPa_per_mm": deck.penalty}  # fmt: skip
+            row = {
+                "case": case,
+                "level": level,
+                "roll": a.roll,
+                "ours": o,
+                "ours_run": ro,
+                "ccx_run": rc,
+                "ccx_dofs": 3 * info["fe_nodes"],
+                "penalty_MPa_per_mm": deck.penalty,
+            }
             try:
                 if rc["returncode"] != 0:
                     raise RuntimeError(f"ccx exit code {rc['returncode']} (see {tag}-ccx.log)")
@@ -595,8 +682,9 @@ def main(argv=None) -> int:
                 o["per_flank_N"] = ours_per_flank(o, deck, tags)
                 row["ccx"] = c
                 if a.ccx_penalty_sweep and level == min(a.levels):
-                    row["ccx_penalty_sweep"] = {str(a.penalty_factor): {
-                        k: c[k] for k in MOMENTS + CENTROIDS}}  # fmt: skip
+                    row["ccx_penalty_sweep"] = {
+                        str(a.penalty_factor): {k: c[k] for k in MOMENTS + CENTROIDS}
+                    }
                 for f in a.ccx_penalty_sweep if level == min(a.levels) else ():
                     deck.penalty = deck.penalty * f / a.penalty_factor
                     jf = work / f"{tag}-p{f:g}"
@@ -609,8 +697,11 @@ def main(argv=None) -> int:
                     row["ccx_penalty_sweep"][str(f)] = {k: cf[k] for k in MOMENTS + CENTROIDS}
                 row["rel_diff"] = {m: rel(o[m], c[m]) for m in MOMENTS}
                 row["abs_diff_mm"] = {z: o[z] - c[z] for z in CENTROIDS}
-                print(f"{tag}: ccx {rc['wall_s']:.1f} s; " + ", ".join(
-                    f"{m} {o[m]:.2f}/{c[m]:.2f}" for m in MOMENTS), flush=True)  # fmt: skip
+                print(
+                    f"{tag}: ccx {rc['wall_s']:.1f} s; "
+                    + ", ".join(f"{m} {o[m]:.2f}/{c[m]:.2f}" for m in MOMENTS),
+                    flush=True,
+                )
             except Exception as e:  # report what failed, keep the other runs
                 row["ccx"] = {"error": f"{type(e).__name__}: {e}"}
                 print(f"{tag}: CalculiX result unusable: {e}", flush=True)
@@ -664,12 +755,18 @@ def why_they_differ(rows: list[dict]) -> list[str]:
         share = []
         for m, per in o.get("per_flank_N", {}).items():
             cp = c["meshes"].get(m, {}).get("per_flank_N", {})
-            share.append(f"{m}: " + ", ".join(
-                f"{t.split('/')[1]} {v / 1e3:.2f} / {cp.get(t, 0.0) / 1e3:.2f}"
-                for t, v in per.items() if max(v, cp.get(t, 0.0)) > 50.0))  # fmt: skip
+            share.append(
+                f"{m}: "
+                + ", ".join(
+                    f"{t.split('/')[1]} {v / 1e3:.2f} / {cp.get(t, 0.0) / 1e3:.2f}"
+                    for t, v in per.items()
+                    if max(v, cp.get(t, 0.0)) > 50.0
+                )
+            )
         if share:
-            md.append("- Tooth load sharing (kN per pinion flank, ours / ccx): "
-                      + "; ".join(share) + ".")  # fmt: skip
+            md.append(
+                "- Tooth load sharing (kN per pinion flank, ours / ccx): " + "; ".join(share) + "."
+            )
         fs = [c["meshes"][m]["normal_force_N"] for m in o["mesh_normal_force_N"]]
         sag = c.get("facet_sag_um", {})
         drive = [v for m, v in sag.items() if not m.endswith("coast")]
@@ -693,17 +790,23 @@ def why_they_differ(rows: list[dict]) -> list[str]:
                 "(the FE mesh gives only the compliance)."
             )
         coast = {m: f for m, f in o.get("coast_force_N", {}).items() if f > 1.0}
-        if coast or any(c["meshes"].get(f"{m}/coast", {}).get("normal_force_N", 0) > 1.0
-                        for m in o.get("coast_force_N", {})):  # fmt: skip
+        if coast or any(
+            c["meshes"].get(f"{m}/coast", {}).get("normal_force_N", 0) > 1.0
+            for m in o.get("coast_force_N", {})
+        ):
             parts = []
             for m, fo in o.get("coast_force_N", {}).items():
                 fc = c["meshes"].get(f"{m}/coast", {}).get("normal_force_N", 0.0)
                 sg = sag.get(f"{m}/coast", {})
                 parts.append(
                     f"{m} ours {fo:.0f} N, ccx {max(fc, 0.0):.0f} N"
-                    + (f" (coast facet sag {sg['slave_median']:.1f} + {sg['master_median']:.1f}"
-                       " um, medians)" if sg else "")
-                )  # fmt: skip
+                    + (
+                        f" (coast facet sag {sg['slave_median']:.1f} + {sg['master_median']:.1f}"
+                        " um, medians)"
+                        if sg
+                        else ""
+                    )
+                )
             md.append(
                 "- Coast flanks (the tilt closes the backlash at one face end): "
                 + "; ".join(parts)

@@ -137,10 +137,21 @@ def main(argv=None) -> None:
         meta = {"ranks": comm.size, "rows": rows}
         (out / "solver.json").write_text(json.dumps(meta, indent=1))
         cols = [
-            "case", "h", "dofs", "points", "columns", "iterations", "factorize_s",
-            "one_solve_s", "compliance_s", "active_set_s", "contact_solve_s", "ratio",
-            "err_a", "err_pmax",
-        ]  # fmt: skip
+            "case",
+            "h",
+            "dofs",
+            "points",
+            "columns",
+            "iterations",
+            "factorize_s",
+            "one_solve_s",
+            "compliance_s",
+            "active_set_s",
+            "contact_solve_s",
+            "ratio",
+            "err_a",
+            "err_pmax",
+        ]
         lines = [
             f"# contact solver benchmark ({comm.size} rank(s))",
             "",

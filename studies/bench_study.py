@@ -72,8 +72,18 @@ def main(argv=None) -> int:
         tmp = Path(tmp)
         # warm the mesh cache: one position of each scene builds every body mesh
         _run([args.cases[0], *lv, "--positions", "1", "--out", str(tmp / "warm")])
-        _run([args.cases[0], *lv, "--positions", "1", "--scene", "system",
-              "--out", str(tmp / "warm-system")])  # fmt: skip
+        _run(
+            [
+                args.cases[0],
+                *lv,
+                "--positions",
+                "1",
+                "--scene",
+                "system",
+                "--out",
+                str(tmp / "warm-system"),
+            ]
+        )
         study = [*args.cases, *lv, "--positions", str(args.positions)]
         wall_reuse, mem_reuse = _run([*study, "--out", str(tmp / "reuse")])
         wall_fresh, mem_fresh = _run([*study, "--no-reuse", "--out", str(tmp / "fresh")])

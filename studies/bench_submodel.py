@@ -52,9 +52,13 @@ def _rows(bs: dict) -> dict[str, dict]:
     out = {}
     for key, loc in bs["locations"].items():
         sm = loc["submodel"]
-        out[key] = {"iterations": sm["iterations"], "solve_s": sm["solve_s"],
-                    **{k: sm[k] for k in ("cut_s", "loads_s", "krylov_s", "read_s")},
-                    "surface_MPa": bs[key], "tangent_MPa": bs["tangent"][key]}  # fmt: skip
+        out[key] = {
+            "iterations": sm["iterations"],
+            "solve_s": sm["solve_s"],
+            **{k: sm[k] for k in ("cut_s", "loads_s", "krylov_s", "read_s")},
+            "surface_MPa": bs[key],
+            "tangent_MPa": bs["tangent"][key],
+        }
     return out
 
 
@@ -79,16 +83,23 @@ def bench(args) -> None:
                 obj.ksp.setTolerances(rtol=rtol)
         t0 = time.perf_counter()
         out = solve_position(study, args.roll, comm, RunSettings(level=args.level), store=store)
-        runs.append({"rtol": rtol, "wall_s": time.perf_counter() - t0,
-                     "keys": _rows(out["bending_stress"])})  # fmt: skip
+        runs.append(
+            {"rtol": rtol, "wall_s": time.perf_counter() - t0, "keys": _rows(out["bending_stress"])}
+        )
     ref = runs[0]["keys"]
     for run in runs:
         for key, row in run["keys"].items():
             for q in ("surface_MPa", "tangent_MPa"):
                 a, b = row[q], ref[key][q]
                 row[f"{q}_change"] = None if a is None or not b else abs(a - b) / abs(b)
-    data = {"case": args.case, "level": args.level, "roll": args.roll,
-            "first_solve_s": setup_s, "reference_rtol": rtols[0], "runs": runs}  # fmt: skip
+    data = {
+        "case": args.case,
+        "level": args.level,
+        "roll": args.roll,
+        "first_solve_s": setup_s,
+        "reference_rtol": rtols[0],
+        "runs": runs,
+    }
     if comm.rank == 0:
         args.out.mkdir(parents=True, exist_ok=True)
         write_json(args.out / "submodel_solver.json", data)
@@ -141,9 +152,15 @@ def bench_thresholds(args) -> None:
                 for q in ("surface_MPa", "tangent_MPa"):
                     a, b = row[q], ref[key][q]
                     row[f"{q}_change"] = None if a is None or not b else abs(a - b) / abs(b)
-    data = {"case": args.case, "level": args.level, "roll": args.roll,
-            "rtol": root_submodel.SUBMODEL_CG_RTOL, "pipeline_threshold": default,
-            "repeats": args.repeats, "passes": passes}  # fmt: skip
+    data = {
+        "case": args.case,
+        "level": args.level,
+        "roll": args.roll,
+        "rtol": root_submodel.SUBMODEL_CG_RTOL,
+        "pipeline_threshold": default,
+        "repeats": args.repeats,
+        "passes": passes,
+    }
     if comm.rank == 0:
         args.out.mkdir(parents=True, exist_ok=True)
         write_json(args.out / "submodel_threshold.json", data)
@@ -173,16 +190,24 @@ def _threshold_report(data: dict) -> str:
         for key, row in first["keys"].items():
             kcg = sum(s["keys"][key]["krylov_s"] for s in reuses) / len(reuses)
             its = "/".join(str(s["keys"][key]["iterations"]) for s in p["solves"])
-            ch = [s["keys"][key][f"{q}_change"] for s in p["solves"]
-                  for q in ("surface_MPa", "tangent_MPa")]  # fmt: skip
+            ch = [
+                s["keys"][key][f"{q}_change"]
+                for s in p["solves"]
+                for q in ("surface_MPa", "tangent_MPa")
+            ]
             ch = [c for c in ch if c is not None]
             setup += row["setup_s"]
             cg += kcg
-            lines.append(f"| {i + 1} | {p['threshold']:g} | {key} | {row['setup_s']:.1f} | "
-                         f"{kcg:.1f} | {its} | {max(ch, default=0.0):.1e} |")  # fmt: skip
+            lines.append(
+                f"| {i + 1} | {p['threshold']:g} | {key} | {row['setup_s']:.1f} | "
+                f"{kcg:.1f} | {its} | {max(ch, default=0.0):.1e} |"
+            )
         totals.append((p["threshold"], setup, cg))
-    lines += ["", "| pass | threshold | sum of set-ups (s) | sum of CG per reuse (s) |",
-              "|---|---|---|---|"]  # fmt: skip
+    lines += [
+        "",
+        "| pass | threshold | sum of set-ups (s) | sum of CG per reuse (s) |",
+        "|---|---|---|---|",
+    ]
     for i, (thr, setup, cg) in enumerate(totals):
         lines.append(f"| {i + 1} | {thr:g} | {setup:.1f} | {cg:.1f} |")
     by = {}

@@ -14,11 +14,19 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(prog="python -m studies.case2_report", description=__doc__)
     ap.add_argument("--results", type=Path, default=Path("results"))
     ap.add_argument("--cases", nargs="+", required=True, help="double-pinion cases")
-    ap.add_argument("--single", nargs="*", default=[],
-                    help="single-pinion cases to compare the pattern shift with")  # fmt: skip
+    ap.add_argument(
+        "--single",
+        nargs="*",
+        default=[],
+        help="single-pinion cases to compare the pattern shift with",
+    )
     ap.add_argument("--out", type=Path, default=None, help="default: <results>/case2")
-    ap.add_argument("--tables", type=Path, default=None,
-                    help="analytic tables (default: <results>/analytic/tables.json)")  # fmt: skip
+    ap.add_argument(
+        "--tables",
+        type=Path,
+        default=None,
+        help="analytic tables (default: <results>/analytic/tables.json)",
+    )
     args = ap.parse_args(argv)
     print(write_report(args.results, args.cases, args.out, args.tables, args.single))
 

@@ -231,8 +231,7 @@ def _reused(args, study, run: Run, folder: Path) -> dict | None:
         return None
     ignored = ("code_hash",) if args.reduce_only else ()
     # runs stored before the options
-    stored = {"out_of_core": False, "flank_level": None, "fillet_level": None,
-              **old["reuse_key"]}  # fmt: skip
+    stored = {"out_of_core": False, "flank_level": None, "fillet_level": None, **old["reuse_key"]}
     stored = {k: v for k, v in stored.items() if k not in ignored}
     if stored == {k: v for k, v in key.items() if k not in ignored}:
         old["reused"] = True
@@ -288,8 +287,11 @@ def ladder(args, runs: list[tuple[int, int]]) -> dict:
     """What a record must share with a study to stand for it (:func:`studies.uncertainty.recorded`):
     the runs asked for, the positions and the root-stress split (out of core or not gives the
     same answer)."""
-    return {"runs": [run_label(*r) for r in runs], "positions": args.positions,
-            "split_root_stress": bool(args.split_root_stress)}  # fmt: skip
+    return {
+        "runs": [run_label(*r) for r in runs],
+        "positions": args.positions,
+        "split_root_stress": bool(args.split_root_stress),
+    }
 
 
 def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
@@ -308,12 +310,17 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
         try:
             kept = carried_scatter(read_json(prev), conv)
         except ResultFileError as exc:
-            print(f"{conv['case']}: the record it replaces cannot be read ({exc}): no sector "
-                  "scatter carried over (make sector-scatter keeps it again)")  # fmt: skip
-    rec = {**conv, "recorded": {
-        "date": utc_stamp(),
-        "git_revision": git_revision(),
-    }}  # fmt: skip
+            print(
+                f"{conv['case']}: the record it replaces cannot be read ({exc}): no sector "
+                "scatter carried over (make sector-scatter keeps it again)"
+            )
+    rec = {
+        **conv,
+        "recorded": {
+            "date": utc_stamp(),
+            "git_revision": git_revision(),
+        },
+    }
     if kept:
         return _write_record({**rec, "sector_scatter": kept}, dest)
     write_json(dest / STUDY_FILE, rec)  # reduced, reported and charted in ``folder``
@@ -402,8 +409,9 @@ def reproduce(args) -> dict:
     old = next((r for r in rec.get("runs", []) if r.get("label") == label), None)
     if old is None or "error" in old:
         have = ", ".join(r.get("label", "?") for r in rec.get("runs", []) if "error" not in r)
-        raise InputError(f"--reproduce {args.reproduce}: the record has no finished run "
-                         f"{label} (it has {have})")  # fmt: skip
+        raise InputError(
+            f"--reproduce {args.reproduce}: the record has no finished run {label} (it has {have})"
+        )
     _same_inputs(case, old, "--reproduce")
     run = (args.reproduce, LADDER_DEGREE, None, None)
     row = _solve_as_recorded(args, case, rec, run, bool(old["reuse_key"].get("out_of_core")))
@@ -413,8 +421,11 @@ def reproduce(args) -> dict:
         entry.update(error=row["error"], scalars=0, identical=0)
     else:
         entry.update(compare_runs(old, row))
-    keep = [e for e in rec.get("reproduced") or []
-            if (e.get("run"), e.get("code_hash")) != (label, entry["code_hash"])]  # fmt: skip
+    keep = [
+        e
+        for e in rec.get("reproduced") or []
+        if (e.get("run"), e.get("code_hash")) != (label, entry["code_hash"])
+    ]
     rec["reproduced"] = [*keep, entry]
     write_json(path, rec)
     write_report(rec, path.parent)
@@ -439,20 +450,24 @@ def add_to_record(args) -> Path:
     run = _parse_extra(args.add_to_record, option)
     label = run_label(*run)
     if run[1] == LADDER_DEGREE and not _variant(run):
-        raise InputError(f"{option} {args.add_to_record}: {label} is a ladder run (give "
-                         "another degree, or a flank or fillet level)")  # fmt: skip
+        raise InputError(
+            f"{option} {args.add_to_record}: {label} is a ladder run (give "
+            "another degree, or a flank or fillet level)"
+        )
     finished = [r for r in rec.get("runs", []) if "error" not in r]
     if not finished:
         raise InputError(f"{option}: the record {path} has no finished run")
     _same_inputs(case, finished[0], option)
-    ooc = [x for x in args.out_of_core
-           if not x.isdigit() and _parse_extra(x, "--out-of-core") == run]  # fmt: skip
+    ooc = [
+        x for x in args.out_of_core if not x.isdigit() and _parse_extra(x, "--out-of-core") == run
+    ]
     lad = rec["ladder"]
     row = _solve_as_recorded(args, case, rec, run, bool(ooc))
     if "error" in row:
         log = args.out / case.name / "runs" / f"{label}.log"
-        raise StudyFailed(f"{label} failed ({row['error']}; its log: {log}): nothing added "
-                          f"to {path}")  # fmt: skip
+        raise StudyFailed(
+            f"{label} failed ({row['error']}; its log: {log}): nothing added to {path}"
+        )
     runs = [r for r in rec["runs"] if r.get("label") != label] + [row]
     rec.update(
         runs=runs,
@@ -462,8 +477,10 @@ def add_to_record(args) -> Path:
         code_hash=code_hash(),
         skipped=[x for x in rec.get("skipped") or [] if x.get("label") != label],
     )
-    added = {**rec.get("added", {}), label: {"date": utc_stamp(), "git_revision": git_revision(),
-                                             "code_hash": code_hash()}}  # fmt: skip
+    added = {
+        **rec.get("added", {}),
+        label: {"date": utc_stamp(), "git_revision": git_revision(), "code_hash": code_hash()},
+    }
     rec["added"] = added
     out = _write_record(rec, path.parent)
     print(f"added {label} to {out}", flush=True)

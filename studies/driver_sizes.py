@@ -97,16 +97,29 @@ def solve_variant(study, name: str, level: int, roll: float, comm, log=None) -> 
     read = out["bending_stress_fillets"]
     bs = next(iter(read.values()))
     keys = list(bs["locations"])
-    return {"variant": name, "dofs": out["dofs"], "wall_s": time.perf_counter() - t0,
-            "peak_rss_mb": peak_rss_mb(),
-            "sizes": {"fine": sizes.fine, "fillet": sizes.fillet, "tooth": sizes.tooth,
-                      "fillet_far": sizes.fillet_far, "coarse": sizes.coarse,
-                      "per_circle": sizes.per_circle, "grid": spacing},
-            "read_fillet_mm": float(next(iter(read))),
-            "moments": {k: v for k, v in out.items() if k.startswith(MOMENT_PREFIXES)
-                        and k not in LOA_ALIASES and isinstance(v, float)},
-            "surface": {k: bs[k] for k in keys},
-            "tangent": {k: bs["tangent"][k] for k in keys}}  # fmt: skip
+    return {
+        "variant": name,
+        "dofs": out["dofs"],
+        "wall_s": time.perf_counter() - t0,
+        "peak_rss_mb": peak_rss_mb(),
+        "sizes": {
+            "fine": sizes.fine,
+            "fillet": sizes.fillet,
+            "tooth": sizes.tooth,
+            "fillet_far": sizes.fillet_far,
+            "coarse": sizes.coarse,
+            "per_circle": sizes.per_circle,
+            "grid": spacing,
+        },
+        "read_fillet_mm": float(next(iter(read))),
+        "moments": {
+            k: v
+            for k, v in out.items()
+            if k.startswith(MOMENT_PREFIXES) and k not in LOA_ALIASES and isinstance(v, float)
+        },
+        "surface": {k: bs[k] for k in keys},
+        "tangent": {k: bs["tangent"][k] for k in keys},
+    }
 
 
 def report(data: dict) -> str:
@@ -132,8 +145,10 @@ def report(data: dict) -> str:
     cols += [("surface", k) for k in base["surface"]]
     cols += [("tangent", k) for k in base["tangent"] if base["tangent"][k] is not None]
     head = [f"{k} ({'N m' if g == 'moments' else 'MPa, ' + g})" for g, k in cols]
-    lines += ["| variant | DOFs | wall (s) | process peak so far (GB) | " + " | ".join(head) + " |",
-              "|---|---|---|---|" + "---|" * len(cols)]  # fmt: skip
+    lines += [
+        "| variant | DOFs | wall (s) | process peak so far (GB) | " + " | ".join(head) + " |",
+        "|---|---|---|---|" + "---|" * len(cols),
+    ]
     for name in VARIANTS:
         r = rows.get(name)
         if r is None:
@@ -161,16 +176,26 @@ def report(data: dict) -> str:
 
 def run(args) -> Path:
     if not 0 <= args.level < len(LEVELS) - 1:
-        raise InputError(f"--level: give 0 to {len(LEVELS) - 2} (a level with a next one), "
-                         f"got {args.level}")  # fmt: skip
+        raise InputError(
+            f"--level: give 0 to {len(LEVELS) - 2} (a level with a next one), got {args.level}"
+        )
     bad = [v for v in args.variants if v not in VARIANTS]
     if bad:
         raise InputError(f"--variants: {', '.join(bad)} unknown (allowed: {', '.join(VARIANTS)})")
     study = load_study_case(args.case)
     if study.numerics.root_stress != "submodel":
         raise InputError(f"--case {args.case}: numerics.root_stress must be 'submodel'")
-    return run_variants(study, args.out, "driver_sizes", args.level, args.roll,
-                        args.variants, solve_variant, report, on_row=_read_fillet)  # fmt: skip
+    return run_variants(
+        study,
+        args.out,
+        "driver_sizes",
+        args.level,
+        args.roll,
+        args.variants,
+        solve_variant,
+        report,
+        on_row=_read_fillet,
+    )
 
 
 def _read_fillet(data: dict, row: dict) -> None:
@@ -179,8 +204,9 @@ def _read_fillet(data: dict, row: dict) -> None:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m studies.driver_sizes",
-                                 description=__doc__.splitlines()[0])  # fmt: skip
+    ap = argparse.ArgumentParser(
+        prog="python -m studies.driver_sizes", description=__doc__.splitlines()[0]
+    )
     ap.add_argument("--case", default="1-GB")
     ap.add_argument("--level", type=int, default=0)
     ap.add_argument("--roll", type=float, default=0.0, help="sun angle (rad)")

@@ -45,6 +45,7 @@ from solvers.root_stress import root_stress
 from studies.cli import InputError, guarded
 from studies.files import write_json
 from studies.memory import peak_rss_mb
+from studies.position import train_inputs
 from studies.position_runs import print_row, run_child
 
 
@@ -79,7 +80,7 @@ def solve_one(
     model = build_gear_train(
         scene,
         meshes,
-        study,
+        train_inputs(study),
         degree=degree,
         spacing=lv.fine,
         penalty_factor=study.numerics.penalty_factor,

@@ -39,8 +39,9 @@ from studies.position import roll_angles, solve_position
 from studies.settings import RunSettings
 
 
-def evaluate(study, slopes: dict, crowns: dict | None, rolls, comm, level, store,
-             variant: dict | None = None) -> dict:  # fmt: skip
+def evaluate(
+    study, slopes: dict, crowns: dict | None, rolls, comm, level, store, variant: dict | None = None
+) -> dict:
     """The summary of ``study`` with the lead slopes (and crowns) given, um by gear name, at
     ``level`` with the sizes ``variant`` takes from other levels (``flank_level``,
     ``fillet_level``)."""
@@ -54,8 +55,20 @@ def evaluate(study, slopes: dict, crowns: dict | None, rolls, comm, level, store
     return summarise(trial, solved, [], {"level": level, **variant})
 
 
-def correct(study, *, level, positions, tol, fd_step, max_step, max_solves, crowns, comm,
-            say=print, variant: dict | None = None):  # fmt: skip
+def correct(
+    study,
+    *,
+    level,
+    positions,
+    tol,
+    fd_step,
+    max_step,
+    max_solves,
+    crowns,
+    comm,
+    say=print,
+    variant: dict | None = None,
+):
     """Newton / Broyden on (ZS, ZR) over the slopes of (pinion, sun) (module docstring of
     :mod:`postprocess.lead_correction`); the data the report is written from."""
     gs = study.gearset
@@ -74,8 +87,16 @@ def correct(study, *, level, positions, tol, fd_step, max_step, max_solves, crow
         slopes = dict(zip(names, (float(x) for x in u), strict=True))
         t0 = time.perf_counter()
         s = evaluate(case, slopes, crowns, rolls, comm, level, store, variant)
-        history.append({"slopes_um": slopes, "kind": kind, "ZS": s["ZS"], "ZR": s["ZR"],
-                        "My_pin": s["My_pin"], "wall_s": time.perf_counter() - t0})  # fmt: skip
+        history.append(
+            {
+                "slopes_um": slopes,
+                "kind": kind,
+                "ZS": s["ZS"],
+                "ZR": s["ZR"],
+                "My_pin": s["My_pin"],
+                "wall_s": time.perf_counter() - t0,
+            }
+        )
         say(
             f"  {kind:>10}: "
             + ", ".join(f"{n} {v:+7.2f} um" for n, v in slopes.items())
@@ -149,19 +170,36 @@ def parse_args(argv=None) -> argparse.Namespace:
     )
     ap.add_argument("--case", required=True, help="a single-pinion study case (name or path)")
     ap.add_argument("--level", type=int, default=None, help="mesh level (default: the case's)")
-    ap.add_argument("--positions", type=int, default=None,
-                    help="mesh positions per base pitch (default: the case's)")  # fmt: skip
+    ap.add_argument(
+        "--positions",
+        type=int,
+        default=None,
+        help="mesh positions per base pitch (default: the case's)",
+    )
     ap.add_argument("--tol", type=float, default=0.5, help="|ZS|, |ZR| target, mm (0.5)")
-    ap.add_argument("--fd-step", type=float, default=10.0,
-                    help="slope step of the finite-difference Jacobian, um (10)")  # fmt: skip
-    ap.add_argument("--max-step", type=float, default=100.0,
-                    help="largest Newton step of a slope, um (100)")  # fmt: skip
-    ap.add_argument("--max-solves", type=int, default=8,
-                    help="evaluations of the search at most, the three of the Jacobian "
-                    "included, and one more of the slopes found with the case's root-stress "
-                    "submodels (8)")  # fmt: skip
-    ap.add_argument("--pinion-crown", type=float, default=None,
-                    help="pinion lead crown, um, kept fixed (default: the file's)")  # fmt: skip
+    ap.add_argument(
+        "--fd-step",
+        type=float,
+        default=10.0,
+        help="slope step of the finite-difference Jacobian, um (10)",
+    )
+    ap.add_argument(
+        "--max-step", type=float, default=100.0, help="largest Newton step of a slope, um (100)"
+    )
+    ap.add_argument(
+        "--max-solves",
+        type=int,
+        default=8,
+        help="evaluations of the search at most, the three of the Jacobian "
+        "included, and one more of the slopes found with the case's root-stress "
+        "submodels (8)",
+    )
+    ap.add_argument(
+        "--pinion-crown",
+        type=float,
+        default=None,
+        help="pinion lead crown, um, kept fixed (default: the file's)",
+    )
     ap.add_argument("--out", type=Path, default=Path("results/lead_correction"))
     ap.add_argument("--traceback", action="store_true", help="re-raise errors (bug reports)")
     args = ap.parse_args(argv)
@@ -195,10 +233,19 @@ def main(argv=None) -> int:
             crowns = {study.gearset.power_path[1]: args.pinion_crown}
         label = run_label(level, study.numerics.degree, **variant)
         say(f"{study.name}: lead correction at {label}, {positions} positions")
-        data = correct(study, level=level, positions=positions, tol=args.tol,
-                       fd_step=args.fd_step, max_step=args.max_step,
-                       max_solves=args.max_solves, crowns=crowns, comm=comm,
-                       say=say, variant=variant)  # fmt: skip
+        data = correct(
+            study,
+            level=level,
+            positions=positions,
+            tol=args.tol,
+            fd_step=args.fd_step,
+            max_step=args.max_step,
+            max_solves=args.max_solves,
+            crowns=crowns,
+            comm=comm,
+            say=say,
+            variant=variant,
+        )
         if comm.rank == 0:
             out = args.out / study.name
             out.mkdir(parents=True, exist_ok=True)

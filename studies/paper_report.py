@@ -19,8 +19,12 @@ def main(argv=None, prog: str = "python -m studies.paper_report") -> None:
         "folder on one page, one row per case run, speed against error.",
     )
     ap.add_argument("--results", type=Path, default=Path("results"))
-    ap.add_argument("--started", type=Path, default=None,
-                    help="start stamp of a full make (seconds since the epoch)")  # fmt: skip
+    ap.add_argument(
+        "--started",
+        type=Path,
+        default=None,
+        help="start stamp of a full make (seconds since the epoch)",
+    )
     args = ap.parse_args(argv)
     if args.started is not None:
         rec = record_wall_time(args.results, args.started)

@@ -53,16 +53,25 @@ def _with_error(study, error_um: float, direction: str, k_sun: float, root_stres
     n = study.gearset.planets
     pair = (error_um, 0.0) if direction == "tangential" else (0.0, error_um)
     errors = (pair,) + ((0.0, 0.0),) * (n - 1)
-    system = dataclasses.replace(study.system, pin_position_errors_um=errors,
-                                 sun_radial_stiffness=k_sun)  # fmt: skip
+    system = dataclasses.replace(
+        study.system, pin_position_errors_um=errors, sun_radial_stiffness=k_sun
+    )
     system.check(n, f"{study.name} (options --errors, --sun-stiffness)")
     model = dataclasses.replace(study.model, scene="system")
     numerics = dataclasses.replace(study.numerics, root_stress=root_stress)
     return dataclasses.replace(study, system=system, model=model, numerics=numerics)
 
 
-def run(case: str, errors: list[float], out: Path, level: int, direction: str,
-        sun_stiffness: list[float], comm, root_stress: str = "submodel") -> dict:  # fmt: skip
+def run(
+    case: str,
+    errors: list[float],
+    out: Path,
+    level: int,
+    direction: str,
+    sun_stiffness: list[float],
+    comm,
+    root_stress: str = "submodel",
+) -> dict:
     """Solve every (support, error) row. The options are checked before any solve (the
     errors and supports by the case file's own check, :meth:`cases.study_case.System.check`);
     ``pin_errors.json`` is rewritten after every row; a row that fails on any rank stops
@@ -72,11 +81,21 @@ def run(case: str, errors: list[float], out: Path, level: int, direction: str,
     except ValueError as exc:
         raise InputError(f"{exc} (option --level)") from exc
     base = load_study_case(case)
-    studies = [(k, e, _with_error(base, e, direction, k, root_stress))
-               for k in sun_stiffness for e in errors]  # fmt: skip
+    studies = [
+        (k, e, _with_error(base, e, direction, k, root_stress))
+        for k in sun_stiffness
+        for e in errors
+    ]
     store, ranks = BodyStore(), Ranks(comm)
-    result = {"case": base.name, "level": level, "direction": direction, "roll": 0.0,
-              "pinion_with_error": 1, "root_stress": root_stress, "rows": []}  # fmt: skip
+    result = {
+        "case": base.name,
+        "level": level,
+        "direction": direction,
+        "roll": 0.0,
+        "pinion_with_error": 1,
+        "root_stress": root_stress,
+        "rows": [],
+    }
     path = out / "pin_errors.json"
     on_root(comm, lambda: out.mkdir(parents=True, exist_ok=True), f"creating {out}")
     for k_sun, e, study in studies:
@@ -89,8 +108,9 @@ def run(case: str, errors: list[float], out: Path, level: int, direction: str,
         failed = ranks.agree(failure, what)
         if failed:
             n = len(result["rows"])
-            raise StudyFailed(f"{what}: rank {failed[0][0]}: {failed[0][1]} ({n} rows before "
-                              f"it kept in {path})")  # fmt: skip
+            raise StudyFailed(
+                f"{what}: rank {failed[0][0]}: {failed[0][1]} ({n} rows before it kept in {path})"
+            )
         result["rows"].append(_row(pos, e, k_sun))
         on_root(comm, lambda: write_json(path, result), f"writing {path}")
     on_root(comm, lambda: _plot(result, out / "pin_errors.png"), f"plotting {out}")
@@ -98,8 +118,9 @@ def run(case: str, errors: list[float], out: Path, level: int, direction: str,
 
 
 def _row(pos: dict, e: float, k_sun: float) -> dict:
-    root = cycle_bending([{"position": 0, "bending_stress": pos.get("bending_stress"),
-                           "roll": pos["roll"]}])  # fmt: skip
+    root = cycle_bending(
+        [{"position": 0, "bending_stress": pos.get("bending_stress"), "roll": pos["roll"]}]
+    )
     return {
         "sun_radial_stiffness": k_sun,
         "error_um": e,
@@ -118,8 +139,9 @@ def _row(pos: dict, e: float, k_sun: float) -> dict:
 
 def _plot(result: dict, path: Path) -> None:
     ratios = root_stress_ratios(result["rows"])
-    fig, axes = plt.subplots(1, 2 if ratios else 1, figsize=(13 if ratios else 7.5, 4.5),
-                             squeeze=False)  # fmt: skip
+    fig, axes = plt.subplots(
+        1, 2 if ratios else 1, figsize=(13 if ratios else 7.5, 4.5), squeeze=False
+    )
     ax = axes[0, 0]
     supports = sorted({r["sun_radial_stiffness"] for r in result["rows"]})
     styles = dict(zip(supports, ("-", "--", ":", "-."), strict=False))
@@ -130,10 +152,20 @@ def _plot(result: dict, path: Path) -> None:
     for k_sun in supports:
         rows = [r for r in result["rows"] if r["sun_radial_stiffness"] == k_sun]
         e = [r["error_um"] for r in rows]
-        ax.plot(e, [r["K_gamma"] for r in rows], "k" + styles[k_sun], marker="o",
-                label=f"K_gamma, {sun(k_sun)}")  # fmt: skip
-        ax.plot(e, [r["load_shares"][0] for r in rows], "C3" + styles[k_sun], marker="s",
-                label=f"pinion 1 share, {sun(k_sun)}")  # fmt: skip
+        ax.plot(
+            e,
+            [r["K_gamma"] for r in rows],
+            "k" + styles[k_sun],
+            marker="o",
+            label=f"K_gamma, {sun(k_sun)}",
+        )
+        ax.plot(
+            e,
+            [r["load_shares"][0] for r in rows],
+            "C3" + styles[k_sun],
+            marker="s",
+            label=f"pinion 1 share, {sun(k_sun)}",
+        )
     ax.axhline(1.0, color="0.6", lw=0.8)
     ax.set_xlabel(f"{result['direction']} pin-hole error of pinion 1 (um)")
     ax.set_ylabel("load share (sun-mesh force / mean)")
@@ -143,13 +175,21 @@ def _plot(result: dict, path: Path) -> None:
         ax = axes[0, 1]
         for k_sun, per_key in ratios.items():
             for j, (key, pts) in enumerate(sorted(per_key.items())):
-                ax.plot(*zip(*pts, strict=True), f"C{j}" + styles[k_sun], marker="o",
-                        label=f"{key}, {sun(k_sun)}")  # fmt: skip
+                ax.plot(
+                    *zip(*pts, strict=True),
+                    f"C{j}" + styles[k_sun],
+                    marker="o",
+                    label=f"{key}, {sun(k_sun)}",
+                )
             rows = [r for r in result["rows"] if r["sun_radial_stiffness"] == k_sun]
             k0 = next(r["K_gamma"] for r in rows if r["error_um"] == 0)
             pts = sorted((r["error_um"], r["K_gamma"] / k0) for r in rows)
-            ax.plot(*zip(*pts, strict=True), "k" + styles[k_sun], lw=0.8,
-                    label=f"K_gamma / K_gamma without error, {sun(k_sun)}")  # fmt: skip
+            ax.plot(
+                *zip(*pts, strict=True),
+                "k" + styles[k_sun],
+                lw=0.8,
+                label=f"K_gamma / K_gamma without error, {sun(k_sun)}",
+            )
         ax.axhline(1.0, color="0.6", lw=0.8)
         ax.set_xlabel(f"{result['direction']} pin-hole error of pinion 1 (um)")
         ax.set_ylabel("root stress / root stress without error")
@@ -161,35 +201,62 @@ def _plot(result: dict, path: Path) -> None:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m studies.pin_errors", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)  # fmt: skip
+    ap = argparse.ArgumentParser(
+        prog="python -m studies.pin_errors",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     ap.add_argument("case")
-    ap.add_argument("--errors", type=float, nargs="+", default=[0.0, 10.0, 25.0, 50.0],
-                    help="pin-hole errors of pinion 1, um")  # fmt: skip
+    ap.add_argument(
+        "--errors",
+        type=float,
+        nargs="+",
+        default=[0.0, 10.0, 25.0, 50.0],
+        help="pin-hole errors of pinion 1, um",
+    )
     ap.add_argument("--direction", choices=("tangential", "radial"), default="tangential")
     ap.add_argument("--level", type=int, default=0)
-    ap.add_argument("--sun-stiffness", type=float, nargs="+", default=[0.0, 1.0e6],
-                    help="sun radial support stiffness per series, N/mm; 0: floating")  # fmt: skip
-    ap.add_argument("--root-stress", choices=ROOT_STRESS, default="submodel",
-                    help="read the most loaded planet's root stress on submodels (default), "
-                    "or not (the load shares alone: 1-GB's eight level-0 solves took 2 min "
-                    "against 6.5)")  # fmt: skip
+    ap.add_argument(
+        "--sun-stiffness",
+        type=float,
+        nargs="+",
+        default=[0.0, 1.0e6],
+        help="sun radial support stiffness per series, N/mm; 0: floating",
+    )
+    ap.add_argument(
+        "--root-stress",
+        choices=ROOT_STRESS,
+        default="submodel",
+        help="read the most loaded planet's root stress on submodels (default), "
+        "or not (the load shares alone: 1-GB's eight level-0 solves took 2 min "
+        "against 6.5)",
+    )
     ap.add_argument("--out", type=Path, default=Path("results/case1-system"))
     ap.add_argument("--traceback", action="store_true", help="re-raise errors (bug reports)")
     args = ap.parse_args(argv)
     comm = MPI.COMM_WORLD
 
     def body():
-        res = run(args.case, args.errors, args.out, args.level, args.direction,
-                  args.sun_stiffness, comm, args.root_stress)  # fmt: skip
+        res = run(
+            args.case,
+            args.errors,
+            args.out,
+            args.level,
+            args.direction,
+            args.sun_stiffness,
+            comm,
+            args.root_stress,
+        )
         if comm.rank != 0:
             return
         for r in res["rows"]:
             stress = r["root_stress"] or {}
-            print(f"sun {r['sun_radial_stiffness']:.3g} N/mm, error {r['error_um']:6.1f} um: "
-                  f"K_gamma {r['K_gamma']:.4f}, shares "
-                  + ", ".join(f"{s:.4f}" for s in r["load_shares"])
-                  + "".join(f", {k} {v:.0f} MPa" for k, v in stress.items()))  # fmt: skip
+            print(
+                f"sun {r['sun_radial_stiffness']:.3g} N/mm, error {r['error_um']:6.1f} um: "
+                f"K_gamma {r['K_gamma']:.4f}, shares "
+                + ", ".join(f"{s:.4f}" for s in r["load_shares"])
+                + "".join(f", {k} {v:.0f} MPa" for k, v in stress.items())
+            )
 
     return guarded(body, traceback=args.traceback)
 

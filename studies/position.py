@@ -28,10 +28,12 @@ from meshing.submodel import submodel_level
 from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
 from solvers.body_store import BodyStore
-from solvers.gear_train import build_gear_train
+from solvers.elastic_body import LinearSolver
+from solvers.gear_train import bearing_stiffness, build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
 from solvers.root_submodel import sector_teeth, submodel_root_stress
+from solvers.train_inputs import TrainInputs
 from studies.memory import peak_rss_mb
 from studies.settings import RunSettings
 
@@ -42,6 +44,25 @@ def roll_angles(study, positions: int) -> list[float]:
     """Sun angles (rad) of ``positions`` equally spaced mesh positions over one base pitch."""
     z_sun = study.gearset.gears[study.gearset.power_path[0]].teeth
     return [2.0 * math.pi / z_sun * k / positions for k in range(positions)]
+
+
+def train_inputs(study) -> TrainInputs:
+    """What the gear-train model takes of ``study`` (:class:`solvers.train_inputs.TrainInputs`):
+    the one place the solvers' inputs are read from a study case."""
+    num, mat, gs = study.numerics, study.material, study.gearset
+    return TrainInputs(
+        youngs_modulus=mat.youngs_modulus,
+        poisson_ratio=mat.poisson_ratio,
+        gear_youngs_modulus=mat.gear_youngs_modulus,
+        bearing_stiffness=tuple(float(k) for k in bearing_stiffness(study.bearing)),
+        torque_per_branch_Nm=gs.input_torque / gs.planets,
+        linear_solver=LinearSolver(num.linear_solver, num.linear_tolerance, num.out_of_core),
+        contact_model=num.contact_model,
+        zone_gap_limit_mm=num.zone_gap_limit_um * 1e-3,
+        modifications=getattr(gs, "modifications", None) or {},
+        sun_radial_stiffness=study.system.sun_radial_stiffness,
+        pin_position_errors_um=study.system.pin_position_errors_um,
+    )
 
 
 def check_root_stress(study, scene) -> None:
@@ -62,12 +83,14 @@ def study_scene(study, roll: float, **options):
     of ``numerics.root_fillets`` ("auto": the scene's own choice) and ``options``
     (:func:`meshing.scenes.planetary_scene`)."""
     fillets = {"auto": None, "refined": True, "coarse": False}[study.numerics.root_fillets]
-    return build_scene(study.model.scene, study.gearset, roll,
-                       **{"fine_fillets": fillets, **options})  # fmt: skip
+    return build_scene(
+        study.model.scene, study.gearset, roll, **{"fine_fillets": fillets, **options}
+    )
 
 
-def cycle_sector_teeth(study, roll: float, spacing: float, width=None,
-                       scene_options: dict | None = None) -> dict[str, int]:  # fmt: skip
+def cycle_sector_teeth(
+    study, roll: float, spacing: float, width=None, scene_options: dict | None = None
+) -> dict[str, int]:
     """Per root-stress key the most teeth its drive grid names at any of the
     :data:`meshing.scenes.CYCLE_SAMPLES` sun angles of the mesh cycle that holds ``roll``
     (:func:`solvers.root_submodel.sector_teeth`; memoized per gear set, scene, contact
@@ -79,14 +102,25 @@ def cycle_sector_teeth(study, roll: float, spacing: float, width=None,
     options = dict(scene_options or {})
     cycle, angles = cycle_angles(study.gearset, roll)
     num = study.numerics
-    key = repr((study.gearset, study.material, study.model.scene, num.contact_model,
-                num.zone_gap_limit_um, num.root_fillets, spacing, width, cycle,
-                sorted(options.items())))  # fmt: skip
+    key = repr(
+        (
+            study.gearset,
+            study.material,
+            study.model.scene,
+            num.contact_model,
+            num.zone_gap_limit_um,
+            num.root_fillets,
+            spacing,
+            width,
+            cycle,
+            sorted(options.items()),
+        )
+    )
     if key not in _SECTOR_MEMO:
         most: dict[str, int] = {}
         for angle in angles:
             scene = study_scene(study, angle, **options)
-            for k, n in sector_teeth(scene, study, spacing, width).items():
+            for k, n in sector_teeth(scene, train_inputs(study), spacing, width).items():
                 most[k] = max(most.get(k, 0), n)
         if len(_SECTOR_MEMO) >= 64:
             _SECTOR_MEMO.pop(next(iter(_SECTOR_MEMO)))
@@ -158,8 +192,15 @@ def solve_position(
     meshes = load_body_meshes(scene, sizes, comm, store.mesh_memo)
     t_meshes = time.perf_counter()
     _stage(progress, "model")
-    model = build_gear_train(scene, meshes, study, degree=degree, spacing=spacing,
-                             penalty_factor=penalty, store=store)  # fmt: skip
+    model = build_gear_train(
+        scene,
+        meshes,
+        train_inputs(study),
+        degree=degree,
+        spacing=spacing,
+        penalty_factor=penalty,
+        store=store,
+    )
     _stage(progress, "solve")
     result = model.problem.solve()
     t_solve = time.perf_counter()

@@ -60,8 +60,12 @@ def _time_split(positions: list[dict]) -> dict[str, float]:
 
 
 #: the summary's root-stress groups a submodel ladder run keeps per read fillet size
-FILLET_SCALARS = ("bending_stress", "bending_stress_tangent", "bending_stress_recovered",
-                  "bending_stress_tangent_recovered")  # fmt: skip
+FILLET_SCALARS = (
+    "bending_stress",
+    "bending_stress_tangent",
+    "bending_stress_recovered",
+    "bending_stress_tangent_recovered",
+)
 
 
 def fillet_scalars(solved: list[dict]) -> dict[str, dict[str, float]]:
@@ -72,8 +76,10 @@ def fillet_scalars(solved: list[dict]) -> dict[str, dict[str, float]]:
     sizes = sorted({f for p in solved for f in (p.get("bending_stress_fillets") or {})}, key=float)
     out = {}
     for f in sizes:
-        recs = [{"position": i, "bending_stress": (p.get("bending_stress_fillets") or {}).get(f)}
-                for i, p in enumerate(solved)]  # fmt: skip
+        recs = [
+            {"position": i, "bending_stress": (p.get("bending_stress_fillets") or {}).get(f)}
+            for i, p in enumerate(solved)
+        ]
         cyc = cycle_bending(recs)
         out[f] = {
             f"{name}.{k}": float(v)
@@ -185,8 +191,9 @@ def run_child(
     t0 = time.perf_counter()
     err = subprocess.PIPE if log is None else open(log, "w")
     try:
-        res = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=err, text=True, timeout=timeout,
-                             env=env)  # fmt: skip
+        res = subprocess.run(
+            cmd, stdout=subprocess.PIPE, stderr=err, text=True, timeout=timeout, env=env
+        )
     except subprocess.TimeoutExpired:
         return {"level": level, "degree": degree, "error": f"timeout after {timeout:.0f} s"}
     finally:

@@ -34,13 +34,25 @@ from meshing.cache import source_version
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("gears", "cases", "meshing", "solvers", "postprocess", "studies")
-VERSIONED = ("dolfinx-solver-real", "fenics-basix", "fenics-ffcx", "fenics-ufl", "gmsh",
-             "numpy", "mpi4py", "pyvista")  # fmt: skip
+VERSIONED = (
+    "dolfinx-solver-real",
+    "fenics-basix",
+    "fenics-ffcx",
+    "fenics-ufl",
+    "gmsh",
+    "numpy",
+    "mpi4py",
+    "pyvista",
+)
 
 
 # the modules through which a position's, a summary's and a convergence run's numbers pass
-COMPUTE_ROOTS = ("studies.position", "studies.position_runs", "postprocess.summary",
-                 "postprocess.run_scalars")  # fmt: skip
+COMPUTE_ROOTS = (
+    "studies.position",
+    "studies.position_runs",
+    "postprocess.summary",
+    "postprocess.run_scalars",
+)
 # the drivers that choose what is solved (their own source; their reports are outside)
 DRIVERS = ("studies.run", "studies.convergence")
 
@@ -119,11 +131,22 @@ def utc_stamp() -> str:
 def git_revision() -> str | None:
     """``<commit>`` (``+dirty`` with uncommitted changes), or None outside a git checkout."""
     try:
-        rev = subprocess.run(["git", "rev-parse", "HEAD"], cwd=REPO_ROOT, capture_output=True,
-                             text=True, timeout=10, check=True).stdout.strip()  # fmt: skip
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
-                               cwd=REPO_ROOT, capture_output=True, text=True, timeout=10,
-                               check=True).stdout.strip()  # fmt: skip
+        rev = subprocess.run(
+            ["git", "rev-parse", "HEAD"],
+            cwd=REPO_ROOT,
+            capture_output=True,
+            text=True,
+            timeout=10,
+            check=True,
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            cwd=REPO_ROOT,
+            capture_output=True,
+            text=True,
+            timeout=10,
+            check=True,
+        ).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return None
     return rev + ("+dirty" if dirty else "")

@@ -100,8 +100,14 @@ def reuse_key(
 ) -> dict:
     """What a finished position must match to be reused; ``variant``: the sizes it takes
     from other levels (``flank_level``, ``fillet_level``)."""
-    return {"inputs_hash": inputs_hash(study), "code_hash": code_hash(), "level": level,
-            "degree": degree, **(variant or {}), "roll": roll}  # fmt: skip
+    return {
+        "inputs_hash": inputs_hash(study),
+        "code_hash": code_hash(),
+        "level": level,
+        "degree": degree,
+        **(variant or {}),
+        "roll": roll,
+    }
 
 
 def _finished(path: Path, key: dict, study: StudyCase, progress: Progress) -> dict | None:
@@ -208,8 +214,9 @@ def run_study(
         study = dataclasses.replace(study, model=dataclasses.replace(study.model, scene=scene))
     if root_fillets is not None:
         if root_fillets not in ROOT_FILLETS:
-            raise InputError(f"root_fillets = {root_fillets!r}: must be one of "
-                             f"{', '.join(ROOT_FILLETS)}")  # fmt: skip
+            raise InputError(
+                f"root_fillets = {root_fillets!r}: must be one of {', '.join(ROOT_FILLETS)}"
+            )
         study = dataclasses.replace(
             study, numerics=dataclasses.replace(study.numerics, root_fillets=root_fillets)
         )
@@ -299,8 +306,9 @@ def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress
         line = progress.position(tag)
         failure, write_fields = None, None
         try:
-            pos = solve_position(study, roll, comm, settings, store=store, progress=line,
-                                 keep_fields=k == 0)  # fmt: skip
+            pos = solve_position(
+                study, roll, comm, settings, store=store, progress=line, keep_fields=k == 0
+            )
             write_fields, pos.write_fields = pos.write_fields, None  # not held by `solved`
         except Exception as exc:  # shared with every rank below; finished positions stay
             failure = (one_line(exc), traceback.format_exc())
@@ -345,9 +353,11 @@ def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress
     }
     summary = summarise(study, solved, failed, meta)
     # the discretisation uncertainty per scalar, from the gear set's convergence study
-    found = on_root(comm, lambda: summary_uncertainty(study, level, degree, out_root,
-                                                      variant=variant),
-                    f"reading the convergence studies under {out_root}")  # fmt: skip
+    found = on_root(
+        comm,
+        lambda: summary_uncertainty(study, level, degree, out_root, variant=variant),
+        f"reading the convergence studies under {out_root}",
+    )
     summary.update(found)
     summary["warnings"] = plausibility_warnings(study, summary)
     for w in summary["warnings"]:
@@ -430,8 +440,10 @@ def _sizes_text(label: str, level: int, variant: dict) -> str:
 def _headline(study: StudyCase, pos: dict) -> str:
     if study.gearset.kind == "single_pinion":
         return f"My_pin {pos['My_pin']:.2f} N m, ZS {pos['ZS']:+.2f}, ZR {pos['ZR']:+.2f} mm"
-    return (f"My_SP {pos['My_SP']:.2f}, My_RP {pos['My_RP']:.2f} N m, "
-            f"ZS {pos['ZS']:+.2f}, ZR {pos['ZR']:+.2f} mm")  # fmt: skip
+    return (
+        f"My_SP {pos['My_SP']:.2f}, My_RP {pos['My_RP']:.2f} N m, "
+        f"ZS {pos['ZS']:+.2f}, ZR {pos['ZR']:+.2f} mm"
+    )
 
 
 def _pictures(study: StudyCase, solved: list[dict], out: Path, level, comm, progress):
@@ -451,8 +463,11 @@ def _pictures(study: StudyCase, solved: list[dict], out: Path, level, comm, prog
         title = f"{study.name}: loaded scene, roll {first['roll']:.4f} rad"
         loaded_scene_picture(sc, first, level, out / "loaded_scene.png", title)
 
-    drawings = ((patterns, "contact pattern charts"), (flank_patterns, "flank contact patterns"),
-                (scene, "loaded scene picture"))  # fmt: skip
+    drawings = (
+        (patterns, "contact pattern charts"),
+        (flank_patterns, "flank contact patterns"),
+        (scene, "loaded scene picture"),
+    )
     for draw, what in drawings:
         try:
             on_root(comm, draw, f"drawing the {what} of {study.name}")
@@ -492,16 +507,29 @@ def parse_args(argv=None, prog: str = "python -m studies.run") -> argparse.Names
         help=f"positions per base pitch, 1-{MAX_POSITIONS} (default: the case's)",
     )
     ap.add_argument("--out", type=Path, default=Path("results"), help="results folder")
-    ap.add_argument("--scene", choices=SCENES, default=None,
-                    help="solve in this scene instead of the case's model.scene")  # fmt: skip
-    ap.add_argument("--root-fillets", choices=ROOT_FILLETS, default=None,
-                    help="refine the root fillets (root stress read) or not, instead of the "
-                    "case's numerics.root_fillets")  # fmt: skip
-    ap.add_argument("--out-of-core", action="store_true", default=None,
-                    help="keep the bodies' LU factors on disk (numerics.out_of_core: the same "
-                    "answer to round-off, a fraction of the memory)")  # fmt: skip
-    ap.add_argument("--no-reuse", action="store_true",
-                    help="factorize every body at every position")  # fmt: skip
+    ap.add_argument(
+        "--scene",
+        choices=SCENES,
+        default=None,
+        help="solve in this scene instead of the case's model.scene",
+    )
+    ap.add_argument(
+        "--root-fillets",
+        choices=ROOT_FILLETS,
+        default=None,
+        help="refine the root fillets (root stress read) or not, instead of the "
+        "case's numerics.root_fillets",
+    )
+    ap.add_argument(
+        "--out-of-core",
+        action="store_true",
+        default=None,
+        help="keep the bodies' LU factors on disk (numerics.out_of_core: the same "
+        "answer to round-off, a fraction of the memory)",
+    )
+    ap.add_argument(
+        "--no-reuse", action="store_true", help="factorize every body at every position"
+    )
     ap.add_argument("--quiet", action="store_true", help="only warnings and errors (for CI)")
     ap.add_argument(
         "--traceback",
@@ -534,14 +562,31 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m stud
     return status
 
 
-def run_case(name: str, args: argparse.Namespace, comm, progress: Progress, ranks: Ranks,
-             store: BodyStore | None = None) -> int:  # fmt: skip
+def run_case(
+    name: str,
+    args: argparse.Namespace,
+    comm,
+    progress: Progress,
+    ranks: Ranks,
+    store: BodyStore | None = None,
+) -> int:
     """One case of the command line: its exit code, with its error printed on one line
     (every rank agrees on the outcome first, so none goes on alone)."""
     failure = None
     try:
-        run_study(name, args.out, args.level, args.positions, comm, progress, ranks, store,
-                  args.scene, args.root_fillets, args.out_of_core)  # fmt: skip
+        run_study(
+            name,
+            args.out,
+            args.level,
+            args.positions,
+            comm,
+            progress,
+            ranks,
+            store,
+            args.scene,
+            args.root_fillets,
+            args.out_of_core,
+        )
     except KeyboardInterrupt:
         progress.error(f"{name}: interrupted; finished positions are kept")
         return EXIT_INTERRUPTED

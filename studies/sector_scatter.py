@@ -47,43 +47,61 @@ def scatter_entries(sizes: dict) -> list[dict]:
     key = sizes["key"]
     date = utc_stamp()
     return [
-        {"level": sizes["level"], "roll": sizes["roll"], "fillet_mm": f,
-         "variants": s["variants"], "geometry_order": 1, "code_hash": key["code_hash"],
-         "spread": s["spread"], "recorded": {"date": date, "git_revision": git_revision()}}
+        {
+            "level": sizes["level"],
+            "roll": sizes["roll"],
+            "fillet_mm": f,
+            "variants": s["variants"],
+            "geometry_order": 1,
+            "code_hash": key["code_hash"],
+            "spread": s["spread"],
+            "recorded": {"date": date, "git_revision": git_revision()},
+        }
         for f, s in other_size_spreads(sizes["variants"]).items()
-    ]  # fmt: skip
+    ]
 
 
-def record_scatter(case: str, level: int, out: Path, records: Path = RECORDS,
-                   roll: float = 0.0) -> Path:  # fmt: skip
+def record_scatter(
+    case: str, level: int, out: Path, records: Path = RECORDS, roll: float = 0.0
+) -> Path:
     """Check the ``sector_sizes`` file of ``case``, ``level`` and ``roll`` against the case
     file and its record, keep its scatter in the record and reduce the records again;
     returns the record's path."""
     study = load_study_case(case)
     src = variant_path(out, study.name, "sector_sizes", level, roll)
     if not src.is_file():
-        raise InputError(f"--level {level} --roll {roll:g}: no {src}; run make sector-sizes "
-                         f"CASE={study.name} SECTOR_LEVEL={level} SECTOR_ROLL={roll:g} "
-                         "first")  # fmt: skip
+        raise InputError(
+            f"--level {level} --roll {roll:g}: no {src}; run make sector-sizes "
+            f"CASE={study.name} SECTOR_LEVEL={level} SECTOR_ROLL={roll:g} "
+            "first"
+        )
     path = records / study.name / STUDY_FILE
     if not path.is_file():
         raise InputError(f"--case {study.name}: no convergence record in {records}")
     sizes, conv = read_json(src), read_json(path)
     inputs = inputs_hash(without_variant(study))  # the runs set their sizes themselves
     if sizes.get("key", {}).get("inputs") != inputs:
-        raise InputError(f"{src}: solved from other inputs than today's case file "
-                         f"{study.name}; run make sector-sizes again")  # fmt: skip
+        raise InputError(
+            f"{src}: solved from other inputs than today's case file "
+            f"{study.name}; run make sector-sizes again"
+        )
     if level_inputs(conv, level) != {inputs}:
-        raise InputError(f"--case {study.name}: the record's level-{level} run was solved from "
-                         "other inputs than today's case file; record it again first")  # fmt: skip
+        raise InputError(
+            f"--case {study.name}: the record's level-{level} run was solved from "
+            "other inputs than today's case file; record it again first"
+        )
     if level != conv.get("case_level"):
-        raise InputError(f"--level {level}: the record of {study.name} is of case level "
-                         f"{conv.get('case_level')}; its sector ladder is read on that "
-                         "level's driver")  # fmt: skip
+        raise InputError(
+            f"--level {level}: the record of {study.name} is of case level "
+            f"{conv.get('case_level')}; its sector ladder is read on that "
+            "level's driver"
+        )
     new = scatter_entries(sizes)
     if not new:
-        raise InputError(f"{src}: no read fillet was solved with more than one set of other "
-                         "sizes; add variants such as 1:0.1 2:0.1 3:0.1")  # fmt: skip
+        raise InputError(
+            f"{src}: no read fillet was solved with more than one set of other "
+            "sizes; add variants such as 1:0.1 2:0.1 3:0.1"
+        )
 
     def same(a: dict, b: dict) -> bool:
         return (a["level"], a["roll"], a["fillet_mm"]) == (b["level"], b["roll"], b["fillet_mm"])
@@ -95,8 +113,9 @@ def record_scatter(case: str, level: int, out: Path, records: Path = RECORDS,
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m studies.sector_scatter",
-                                 description=__doc__.splitlines()[0])  # fmt: skip
+    ap = argparse.ArgumentParser(
+        prog="python -m studies.sector_scatter", description=__doc__.splitlines()[0]
+    )
     ap.add_argument("--case", default="1-GB")
     ap.add_argument("--level", type=int, default=1, help="the driver's (global) level")
     ap.add_argument("--roll", type=float, default=0.0, help="sun angle (rad)")
@@ -108,9 +127,11 @@ def main(argv=None) -> int:
         path = record_scatter(args.case, args.level, args.out, args.records, args.roll)
         for e in read_json(path)["sector_scatter"]:
             worst = max(e["spread"].items(), key=lambda kv: kv[1])
-            print(f"{path}: level {e['level']}, roll {e['roll']:g}, {e['fillet_mm']:g} mm "
-                  f"({', '.join(e['variants'])}, code {e['code_hash']}): largest spread "
-                  f"{worst[0]} {worst[1]:.2%}")  # fmt: skip
+            print(
+                f"{path}: level {e['level']}, roll {e['roll']:g}, {e['fillet_mm']:g} mm "
+                f"({', '.join(e['variants'])}, code {e['code_hash']}): largest spread "
+                f"{worst[0]} {worst[1]:.2%}"
+            )
 
     return guarded(run)
 

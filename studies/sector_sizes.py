@@ -68,9 +68,12 @@ MOMENT_PREFIXES = ("Mx_", "My_", "M_LOA_")
 RATIO = 1.5
 FILLET_RANGE = (0.03, 1.0)
 #: the report's heading of each value group (:data:`postprocess.sector_scatter.GROUP_PREFIX`)
-GROUP_TITLE = {"surface": "Surface maximum, nodal", "tangent": "ISO line, nodal",
-               "surface_recovered": "Surface maximum, recovered (solvers.surface_recovery)",
-               "tangent_recovered": "ISO line, recovered"}  # fmt: skip
+GROUP_TITLE = {
+    "surface": "Surface maximum, nodal",
+    "tangent": "ISO line, nodal",
+    "surface_recovered": "Surface maximum, recovered (solvers.surface_recovery)",
+    "tangent_recovered": "ISO line, recovered",
+}
 
 
 def default_variants(level: int) -> list[str]:
@@ -93,9 +96,11 @@ def variant_sizes(spec: str) -> tuple[Level, int]:
         k, f = None, None
     ok = len(parts) == 2 or (len(parts) == 3 and parts[2] == "c")
     if not ok or k is None or not 0 <= k < len(LEVELS) or not math.isfinite(f):
-        raise InputError(f"--variants {spec!r}: give K:F or K:F:c, K a level 0 to "
-                         f"{len(LEVELS) - 1}, F the read fillet size in mm and c for curved "
-                         "tets, e.g. 2:0.1 or 2:0.1:c")  # fmt: skip
+        raise InputError(
+            f"--variants {spec!r}: give K:F or K:F:c, K a level 0 to "
+            f"{len(LEVELS) - 1}, F the read fillet size in mm and c for curved "
+            "tets, e.g. 2:0.1 or 2:0.1:c"
+        )
     lo, hi = FILLET_RANGE
     if not lo <= f <= hi:
         raise InputError(f"--variants {spec!r}: the read fillet must be {lo:g} to {hi:g} mm")
@@ -123,18 +128,30 @@ def solve_variant(study, spec: str, level: int, roll: float, comm, log=None) -> 
     bs = next(iter(out["bending_stress_fillets"].values()))
     keys = [k for k in bs["locations"] if bs[k] is not None]
     rec = {k: bs["locations"][k]["recovered"] for k in keys}
-    return {"variant": spec, "wall_s": time.perf_counter() - t0, "peak_rss_mb": peak_rss_mb(),
-            "geometry_order": order,
-            "sizes": {"fine": sizes.fine, "fillet": sizes.fillet, "tooth": sizes.tooth,
-                      "fillet_far": sizes.fillet_far, "coarse": sizes.coarse,
-                      "per_circle": sizes.per_circle},
-            "sector_dofs": {k: bs["locations"][k]["submodel"]["dofs"] for k in keys},
-            "moments": {k: v for k, v in out.items() if k.startswith(MOMENT_PREFIXES)
-                        and k not in LOA_ALIASES and isinstance(v, float)},
-            "surface": {k: bs[k] for k in keys},
-            "tangent": {k: bs["tangent"][k] for k in keys},
-            "surface_recovered": {k: rec[k]["value"] for k in keys},
-            "tangent_recovered": {k: rec[k]["tangent"] for k in keys}}  # fmt: skip
+    return {
+        "variant": spec,
+        "wall_s": time.perf_counter() - t0,
+        "peak_rss_mb": peak_rss_mb(),
+        "geometry_order": order,
+        "sizes": {
+            "fine": sizes.fine,
+            "fillet": sizes.fillet,
+            "tooth": sizes.tooth,
+            "fillet_far": sizes.fillet_far,
+            "coarse": sizes.coarse,
+            "per_circle": sizes.per_circle,
+        },
+        "sector_dofs": {k: bs["locations"][k]["submodel"]["dofs"] for k in keys},
+        "moments": {
+            k: v
+            for k, v in out.items()
+            if k.startswith(MOMENT_PREFIXES) and k not in LOA_ALIASES and isinstance(v, float)
+        },
+        "surface": {k: bs[k] for k in keys},
+        "tangent": {k: bs["tangent"][k] for k in keys},
+        "surface_recovered": {k: rec[k]["value"] for k in keys},
+        "tangent_recovered": {k: rec[k]["tangent"] for k in keys},
+    }
 
 
 def fillet_ladders(rows: list[dict], cols: list[tuple[str, str]]) -> list[str]:
@@ -160,9 +177,11 @@ def fillet_ladders(rows: list[dict], cols: list[tuple[str, str]]) -> list[str]:
             order_s = "-" if res.order is None else f"{res.order:.2f}"
             ext = "-" if res.extrapolated is None else f"{res.extrapolated:.1f}"
             u = " / ".join("-" if x is None else f"{x * 100:.2f}" for x in res.uncertainty)
-            out.append(f"- {name}, {' / '.join(f'{f:g}' for f in fillets)} mm, {key} ({g}): "
-                       f"{' / '.join(f'{v:.1f}' for v in vals)}; {res.status}, order "
-                       f"{order_s}, extrapolated {ext}, U {u} %")  # fmt: skip
+            out.append(
+                f"- {name}, {' / '.join(f'{f:g}' for f in fillets)} mm, {key} ({g}): "
+                f"{' / '.join(f'{v:.1f}' for v in vals)}; {res.status}, order "
+                f"{order_s}, extrapolated {ext}, U {u} %"
+            )
     return out
 
 
@@ -181,13 +200,13 @@ def report(data: dict) -> str:
     if not rows:
         return "\n".join([*lines, "No variant solved yet."]) + "\n"
     first = rows[0]
-    cols = [(g, k) for g in GROUP_PREFIX for k in first.get(g, {})
-            if first[g][k] is not None]  # fmt: skip
+    cols = [(g, k) for g in GROUP_PREFIX for k in first.get(g, {}) if first[g][k] is not None]
     lines += ["| variant | sector DOFs (largest) | wall (s) | peak (GB) |", "|---|---|---|---|"]
     for r in rows:
         dofs = max(r["sector_dofs"].values(), default=0)
-        lines.append(f"| {r['variant']} | {dofs} | {r['wall_s']:.0f} | "
-                     f"{r['peak_rss_mb'] / 1024:.1f} |")  # fmt: skip
+        lines.append(
+            f"| {r['variant']} | {dofs} | {r['wall_s']:.0f} | {r['peak_rss_mb'] / 1024:.1f} |"
+        )
     for g in GROUP_PREFIX:  # a table per reading: the nodal and the recovered values
         keys = [k for gg, k in cols if gg == g]
         if not keys:
@@ -209,22 +228,39 @@ def report(data: dict) -> str:
     if not shared:
         lines.append("No read fillet size was solved with more than one set of other sizes.")
     for f, sc in shared.items():
-        spreads = [f"{k} ({g}) {sc['spread'][GROUP_PREFIX[g] + k] * 100:.2f} %"
-                   for g, k in cols if GROUP_PREFIX[g] + k in sc["spread"]]  # fmt: skip
-        lines.append(f"- {f:g} mm ({', '.join(sc['variants'])}): spread (max - min) / mean: "
-                     + ", ".join(spreads))  # fmt: skip
-    lines += ["", "## The read fillet's ladders", "",
-              "Per set of other sizes and geometry, the three finest read fillets: Richardson "
-              "against the fillet size (the convergence study's, order capped at 2 for the "
-              "GCI); U of each fillet in %, coarse to fine.", ""]  # fmt: skip
+        spreads = [
+            f"{k} ({g}) {sc['spread'][GROUP_PREFIX[g] + k] * 100:.2f} %"
+            for g, k in cols
+            if GROUP_PREFIX[g] + k in sc["spread"]
+        ]
+        lines.append(
+            f"- {f:g} mm ({', '.join(sc['variants'])}): spread (max - min) / mean: "
+            + ", ".join(spreads)
+        )
+    lines += [
+        "",
+        "## The read fillet's ladders",
+        "",
+        "Per set of other sizes and geometry, the three finest read fillets: Richardson "
+        "against the fillet size (the convergence study's, order capped at 2 for the "
+        "GCI); U of each fillet in %, coarse to fine.",
+        "",
+    ]
     ladders = fillet_ladders(rows, cols)
     if not ladders:
         lines.append("No set of other sizes was solved with three read fillet sizes.")
     lines += ladders
-    moves = [abs(r["moments"][m] - first["moments"][m]) for r in rows for m in first["moments"]
-             if m in r["moments"]]  # fmt: skip
-    lines += ["", f"Driver check: the moments' largest change over the variants is "
-              f"{max(moves, default=0.0):.3g} N m (0: the same global solution)."]  # fmt: skip
+    moves = [
+        abs(r["moments"][m] - first["moments"][m])
+        for r in rows
+        for m in first["moments"]
+        if m in r["moments"]
+    ]
+    lines += [
+        "",
+        f"Driver check: the moments' largest change over the variants is "
+        f"{max(moves, default=0.0):.3g} N m (0: the same global solution).",
+    ]
     return "\n".join(lines) + "\n"
 
 
@@ -237,13 +273,15 @@ def run(args) -> Path:
     study = load_study_case(args.case)
     if study.numerics.root_stress != "submodel":
         raise InputError(f"--case {args.case}: numerics.root_stress must be 'submodel'")
-    return run_variants(study, args.out, "sector_sizes", args.level, args.roll, specs,
-                        solve_variant, report)  # fmt: skip
+    return run_variants(
+        study, args.out, "sector_sizes", args.level, args.roll, specs, solve_variant, report
+    )
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m studies.sector_sizes",
-                                 description=__doc__.splitlines()[0])  # fmt: skip
+    ap = argparse.ArgumentParser(
+        prog="python -m studies.sector_sizes", description=__doc__.splitlines()[0]
+    )
     ap.add_argument("--case", default="1-GB")
     ap.add_argument("--level", type=int, default=1, help="the driver's (global) level")
     ap.add_argument("--roll", type=float, default=0.0, help="sun angle (rad)")

@@ -89,8 +89,9 @@ def missing_runs(conv: dict) -> list[str]:
     """Labels of the runs of its ladder a convergence study lacks: held as failed (an
     ``error``: out of memory, a timeout, a solver error) or skipped (``skipped``: too little
     free memory for an in-core run off the ladder, ``--min-free-gb``)."""
-    failed = [str(r.get("label")) for r in conv.get("runs") or []
-              if isinstance(r, dict) and "error" in r]  # fmt: skip
+    failed = [
+        str(r.get("label")) for r in conv.get("runs") or [] if isinstance(r, dict) and "error" in r
+    ]
     skipped = [str(r.get("label")) for r in conv.get("skipped") or [] if isinstance(r, dict)]
     return failed + skipped
 
@@ -109,9 +110,11 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
             failed = missing_runs(conv)
             if not failed:
                 return path
-            print(f"{study.name}: the record {path} has this ladder but not the run(s) "
-                  f"{', '.join(failed)} (failed or skipped when recorded): it does not "
-                  "count")  # fmt: skip
+            print(
+                f"{study.name}: the record {path} has this ladder but not the run(s) "
+                f"{', '.join(failed)} (failed or skipped when recorded): it does not "
+                "count"
+            )
     return None
 
 
@@ -186,8 +189,9 @@ def _from_studies(study, label: str, folder, key, found) -> dict:
         src = out["uncertainty_source"]
         if scatter_from is not None:
             src["sector_scatter_from"] = str(scatter_from)
-            src["note"] += (f"; the sector scatter under its root stresses' U as kept with "
-                            f"{scatter_from}")  # fmt: skip
+            src["note"] += (
+                f"; the sector scatter under its root stresses' U as kept with {scatter_from}"
+            )
         src["code_changed"] = solved_with(conv) != now
         if conv.get("recorded"):
             src["recorded"] = conv["recorded"]

@@ -32,9 +32,17 @@ def variant_path(out: Path, case: str, stem: str, level: int, roll: float) -> Pa
     return out / case / f"{stem}_L{level}{tag}.json"
 
 
-def run_variants(study, out: Path, stem: str, level: int, roll: float, names: list[str],
-                 solve: Callable, report: Callable[[dict], str],
-                 on_row: Callable[[dict, dict], None] | None = None) -> Path:  # fmt: skip
+def run_variants(
+    study,
+    out: Path,
+    stem: str,
+    level: int,
+    roll: float,
+    names: list[str],
+    solve: Callable,
+    report: Callable[[dict], str],
+    on_row: Callable[[dict, dict], None] | None = None,
+) -> Path:
     """Solve the variants ``names`` not yet in their file (:func:`variant_path`) with
     ``solve(study, name, level, roll, comm, log)`` (a row with ``wall_s`` and
     ``peak_rss_mb``), in turn; ``on_row(data, row)`` may add to the file's head before the
@@ -42,8 +50,13 @@ def run_variants(study, out: Path, stem: str, level: int, roll: float, names: li
     comm = MPI.COMM_WORLD
     path = variant_path(out, study.name, stem, level, roll)
     # a variant sets its sizes itself: the case's own sizes are not its inputs
-    key = {"inputs": inputs_hash(without_variant(study)), "code_hash": code_hash(),
-           "tool": tool_hash(solve), "level": level, "roll": roll}  # fmt: skip
+    key = {
+        "inputs": inputs_hash(without_variant(study)),
+        "code_hash": code_hash(),
+        "tool": tool_hash(solve),
+        "level": level,
+        "roll": roll,
+    }
     data = {"case": study.name, "level": level, "roll": roll, "key": key, "variants": []}
     if path.is_file():
         old = read_json(path)
@@ -72,6 +85,8 @@ def run_variants(study, out: Path, stem: str, level: int, roll: float, names: li
 
         on_root(comm, write, f"writing {path}")
         if comm.rank == 0:
-            print(f"{name}: {row['wall_s']:.0f} s, peak {row['peak_rss_mb'] / 1024:.1f} GB",
-                  flush=True)  # fmt: skip
+            print(
+                f"{name}: {row['wall_s']:.0f} s, peak {row['peak_rss_mb'] / 1024:.1f} GB",
+                flush=True,
+            )
     return path

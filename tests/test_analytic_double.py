@@ -88,8 +88,12 @@ def test_law_of_cosines_closes_the_triangle():
 @pytest.mark.parametrize("key", list(printed.SINGH_GEOMETRY_CASE2))
 def test_case2_radii(geom_b, key):
     # Printed to 0.01 mm: half a unit (centre-distance rounding adds < 0.0003 mm).
-    value = {"R_SP_SUN": geom_b.r_sp_sun, "R_SP_RP": geom_b.r_sp_rp, "R_RP_SP": geom_b.r_rp_sp,
-             "R_RP_RING": geom_b.r_rp_ring}[key]  # fmt: skip
+    value = {
+        "R_SP_SUN": geom_b.r_sp_sun,
+        "R_SP_RP": geom_b.r_sp_rp,
+        "R_RP_SP": geom_b.r_rp_sp,
+        "R_RP_RING": geom_b.r_rp_ring,
+    }[key]
     assert value == pytest.approx(printed.SINGH_GEOMETRY_CASE2[key], abs=0.005 + 0.0003)
 
 
@@ -136,8 +140,12 @@ def test_table5_2a_sp_row_is_the_case1_single_pinion(table, cases):
     single = sp.concentrated_load(
         cases[0].torque_per_branch, planetary.single_pinion_geometry(cases[0])
     )
-    case1 = {"My_SP": single["My_pin"], "M_SP": single["My_pin"],
-             "M_LOA_SP_SUN": single["M_LOA_sun"], "M_LOA_SP_RP": single["M_LOA_ring"]}  # fmt: skip
+    case1 = {
+        "My_SP": single["My_pin"],
+        "M_SP": single["My_pin"],
+        "M_LOA_SP_SUN": single["M_LOA_sun"],
+        "M_LOA_SP_RP": single["M_LOA_ring"],
+    }
     for key in SP_2A_FROM_CASE1:
         paper = printed.SINGH_TABLE5["2-A"][key]
         assert not within(a[key], paper, 1.0), key
@@ -147,8 +155,9 @@ def test_table5_2a_sp_row_is_the_case1_single_pinion(table, cases):
 def test_2a_formulas_reduce_to_single_pinion(cases, fz):
     # With the case-1 ring mesh in the RP's place, theta = 180 deg gives exactly Table 3.
     g1 = planetary.single_pinion_geometry(cases[0])
-    g = dp.DoublePinionGeometry(g1.r_pin_sun, g1.r_pin_ring, 20.0, 20.0, g1.alpha1, g1.alpha2,
-                                0.3, math.pi, 0.0)  # fmt: skip
+    g = dp.DoublePinionGeometry(
+        g1.r_pin_sun, g1.r_pin_ring, 20.0, 20.0, g1.alpha1, g1.alpha2, 0.3, math.pi, 0.0
+    )
     f1 = sp.mesh_forces(cases[0].torque_per_branch, g1)
     m = dp.double_pinion_moments(dp.AxialForces(f1.FzS, f1.FzR, 1.0, -1.0), g)
     single = sp.concentrated_load(cases[0].torque_per_branch, g1)

@@ -105,8 +105,9 @@ def test_printed_table1_needs_m3_25():
     # determinant is linear in m3; the printed rounding 0.005 over |dW1^2/dm3| = |W1^2| / m3
     # >= 3.2 (rad/s)^2/kg allows <= 0.0016 kg, the -520.06 slip below gives 0.0004 kg) ...
     for paper in printed.PUST_TABLE1:
-        m3 = rs.mass_m3_from_eigenvalue(paper["omega1_sq"], rs.PUST_M2, rs.PUST_KC, paper["k3"],
-                                        rs.PUST_KR)  # fmt: skip
+        m3 = rs.mass_m3_from_eigenvalue(
+            paper["omega1_sq"], rs.PUST_M2, rs.PUST_KC, paper["k3"], rs.PUST_KR
+        )
         assert m3 == pytest.approx(25.0, abs=0.002)
     # ... and m3 = 25 kg with everything else as stated reproduces the column to one unit in
     # the last printed digit (0.01): -520.0676 vs the printed -520.06 is the one entry that

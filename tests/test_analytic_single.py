@@ -57,8 +57,15 @@ def test_geometry_matches_textbook_formulas(geom):
     a_s, r_sun, r_ps, b_s = textbook_pair(35, 26, 51.945, internal=False)
     a_r, r_pr, _, b_r = textbook_pair(26, 86, 51.945, internal=True)
     expected = (r_sun, r_ps, r_pr, a_s, a_r, b_s, b_r)
-    got = (geom.r_sun, geom.r_pin_sun, geom.r_pin_ring, geom.alpha1, geom.alpha2, geom.beta1,
-           geom.beta2)  # fmt: skip
+    got = (
+        geom.r_sun,
+        geom.r_pin_sun,
+        geom.r_pin_ring,
+        geom.alpha1,
+        geom.alpha2,
+        geom.beta1,
+        geom.beta2,
+    )
     assert got == pytest.approx(expected, rel=1e-10)
 
 

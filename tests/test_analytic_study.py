@@ -17,20 +17,56 @@ def tables():
 
 def test_json_contract(tables):
     # Names relied on by the FE comparison (moments N m, forces N, lengths mm).
-    for key in ("FxS", "FyS", "FzS", "FxR", "FyR", "FzR", "Mx_pin", "My_pin", "M_LOA_sun",
-                "M_LOA_ring"):  # fmt: skip
+    for key in (
+        "FxS",
+        "FyS",
+        "FzS",
+        "FxR",
+        "FyR",
+        "FzR",
+        "Mx_pin",
+        "My_pin",
+        "M_LOA_sun",
+        "M_LOA_ring",
+    ):
         assert isinstance(tables["single"][key], float)
-    row_keys = {"case", "ZS", "ZR", "Mx_LD", "My_LD", "Mx_pin", "My_pin", "M_LOA_sun_LD",
-                "M_LOA_ring_LD", "M_LOA_sun", "M_LOA_ring"}  # fmt: skip
+    row_keys = {
+        "case",
+        "ZS",
+        "ZR",
+        "Mx_LD",
+        "My_LD",
+        "Mx_pin",
+        "My_pin",
+        "M_LOA_sun_LD",
+        "M_LOA_ring_LD",
+        "M_LOA_sun",
+        "M_LOA_ring",
+    }
     for name in ("table8", "table9"):
         assert [r["case"] for r in tables[name]] == list("ABCDE")
         assert all(row_keys <= set(r) for r in tables[name])
         assert {abs(r["ZS"]) for r in tables[name]} == {0.0, 7.25}
     for case in ("2-A", "2-B"):
-        assert {"Mx_SP", "My_SP", "Mx_RP", "My_RP", "M_LOA_SP_SUN", "M_LOA_SP_RP",
-                "M_LOA_RP_SP", "M_LOA_RP_RING"} <= set(tables["double"][case])  # fmt: skip
-    t6_keys = {"pressure_angle", "worst_moment", "single_moment", "ratio", "worst_theta",
-               "equiv_theta", "worst_phi"}  # fmt: skip
+        assert {
+            "Mx_SP",
+            "My_SP",
+            "Mx_RP",
+            "My_RP",
+            "M_LOA_SP_SUN",
+            "M_LOA_SP_RP",
+            "M_LOA_RP_SP",
+            "M_LOA_RP_RING",
+        } <= set(tables["double"][case])
+    t6_keys = {
+        "pressure_angle",
+        "worst_moment",
+        "single_moment",
+        "ratio",
+        "worst_theta",
+        "equiv_theta",
+        "worst_phi",
+    }
     assert [set(r) for r in tables["table6"]] == [t6_keys] * 4
     assert isinstance(tables["pust"]["k_r_example"], float)
     assert [set(r) for r in tables["pust"]["table1"]] == [{"k3", "omega1_sq", "omega2_sq"}] * 5
@@ -93,12 +129,18 @@ def test_case2_2a_and_2b_share_forces(tables):
 def _summary_of(inp) -> dict:
     """The ``inputs.gearset`` part of a summary (what the case-2 report reads) for ``inp``."""
     names = [f"g{i}" for i in range(len(inp.gears))]
-    return {"inputs": {"gearset": {
-        "name": inp.name, "power_path": names,
-        "gears": {n: dataclasses.asdict(g) for n, g in zip(names, inp.gears, strict=True)},
-        "meshes": [{"centre_distance": c} for c in inp.centre_distances],
-        "input_torque": inp.input_torque, "planets": inp.planets,
-    }}}  # fmt: skip
+    return {
+        "inputs": {
+            "gearset": {
+                "name": inp.name,
+                "power_path": names,
+                "gears": {n: dataclasses.asdict(g) for n, g in zip(names, inp.gears, strict=True)},
+                "meshes": [{"centre_distance": c} for c in inp.centre_distances],
+                "input_torque": inp.input_torque,
+                "planets": inp.planets,
+            }
+        }
+    }
 
 
 def test_the_case2_report_takes_the_paper_tables_only_for_the_paper_set(tmp_path):
@@ -134,11 +176,11 @@ def test_analytic_study_paths_are_taken_beside_its_file(tmp_path, monkeypatch):
     (folder / "mine.toml").write_text(text.replace('name = "case1"', 'name = "beside"'))
     (tmp_path / "mine.toml").write_text(text.replace('name = "case1"', 'name = "cwd"'))
     study = folder / "study.toml"
-    study.write_text('single_pinion = "mine.toml"\ndouble_pinion = "case2"\n'
-                     'bearing_cases = ["1-GA"]\n')  # fmt: skip
+    study.write_text(
+        'single_pinion = "mine.toml"\ndouble_pinion = "case2"\nbearing_cases = ["1-GA"]\n'
+    )
     monkeypatch.chdir(tmp_path)
     assert load_analytic_study(study).single_pinion.name == "beside"
-    study.write_text('single_pinion = "case1"\ndouble_pinion = "case2"\n'
-                     'bearing_cases = ["1-GX"]\n')  # fmt: skip
+    study.write_text('single_pinion = "case1"\ndouble_pinion = "case2"\nbearing_cases = ["1-GX"]\n')
     with pytest.raises(CaseError, match=r"^study\.toml: bearing_cases: '1-GX': "):
         load_analytic_study(study)

@@ -109,9 +109,16 @@ def test_thickness_allowance_turns_both_flanks(internal):
     """An allowance turns each flank by A_sn / (z m_n) about the axis (still an exact involute
     helicoid, A_sn cos(alpha_n) / 2 inside the zero-allowance flank along its normal), deepens
     the root by A_sn / (2 tan(alpha_n)) and keeps the tip circle."""
-    kw = dict(teeth=86 if internal else 26, normal_module=1.59, normal_pressure_angle=20.0,
-              helix_angle=21.0, hand="left", face_width=29.0, internal=internal,
-              profile_shift=0.563 if internal else 0.0)  # fmt: skip
+    kw = dict(
+        teeth=86 if internal else 26,
+        normal_module=1.59,
+        normal_pressure_angle=20.0,
+        helix_angle=21.0,
+        hand="left",
+        face_width=29.0,
+        internal=internal,
+        profile_shift=0.563 if internal else 0.0,
+    )
     g0 = GearSpec(name="g", **kw)
     a = -0.05
     g1 = GearSpec(name="g", thickness_allowance=a, **kw)
@@ -136,8 +143,15 @@ def test_thickness_allowance_turns_both_flanks(internal):
 
 
 def test_allowance_out_of_range_is_refused():
-    kw = dict(name="g", teeth=26, normal_module=1.59, normal_pressure_angle=20.0,
-              helix_angle=21.0, hand="left", face_width=29.0)  # fmt: skip
+    kw = dict(
+        name="g",
+        teeth=26,
+        normal_module=1.59,
+        normal_pressure_angle=20.0,
+        helix_angle=21.0,
+        hand="left",
+        face_width=29.0,
+    )
     with pytest.raises(GeometryError, match=r"^g\.thickness_allowance = -0\.5: must be a number"):
         GearSpec(thickness_allowance=-0.5, **kw)
     gears = [CASE1.gears[p] for p in CASE1.power_path]
@@ -423,8 +437,9 @@ def test_overturned_pinion_loads_the_coast_flanks(overturned):
             torque = _moment_about(drive, n_d, c_drv) + _moment_about(c, n_c, c_drv)
             assert abs(torque) == pytest.approx(arm * net, rel=1e-9)
             on_pinion = 1.0 if drive["driven"] == "pinion" else -1.0  # on it: +-F n
-            spin += on_pinion * (_moment_about(drive, n_d, pinion_c)
-                                 + _moment_about(c, n_c, pinion_c))  # fmt: skip
+            spin += on_pinion * (
+                _moment_about(drive, n_d, pinion_c) + _moment_about(c, n_c, pinion_c)
+            )
         else:
             # zone cells carry their own normals (solvers.flank_grid.contact_normals): the
             # torques from the point forces (postprocess.train_results.mesh_torques); the net

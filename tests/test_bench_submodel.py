@@ -41,11 +41,20 @@ def _pass(threshold, setup, cgs):
 def test_break_even_of_two_thresholds():
     """Threshold 0: set-up 40 s, CG 25 s per reuse; 0.02: 100 s and 20 s. The same total
     at 40 + 25 n = 100 + 20 n, n = 12; the means over interleaved passes enter."""
-    data = {"case": "x", "level": 1, "roll": 0.0, "rtol": 1e-6, "pipeline_threshold": 0.0,
-            "repeats": 2, "passes": [_pass(0.0, 40.0, [99, 24, 26]),
-                                     _pass(0.02, 90.0, [99, 19, 21]),
-                                     _pass(0.0, 40.0, [99, 25, 25]),
-                                     _pass(0.02, 110.0, [99, 20, 20])]}  # fmt: skip
+    data = {
+        "case": "x",
+        "level": 1,
+        "roll": 0.0,
+        "rtol": 1e-6,
+        "pipeline_threshold": 0.0,
+        "repeats": 2,
+        "passes": [
+            _pass(0.0, 40.0, [99, 24, 26]),
+            _pass(0.02, 90.0, [99, 19, 21]),
+            _pass(0.0, 40.0, [99, 25, 25]),
+            _pass(0.02, 110.0, [99, 20, 20]),
+        ],
+    }
     text = _threshold_report(data)
     assert "set-up 40.0 / 100.0 s, CG per reuse 25.0 / 20.0 s" in text
     assert "n = 12.0." in text

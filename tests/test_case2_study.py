@@ -39,8 +39,9 @@ SECTION5 = ("M_LOA_SP_SUN", "M_LOA_SP_RP", "M_LOA_RP_SP", "M_LOA_RP_RING")
 STDERR = io.StringIO()  # warnings of the module's studies
 
 
-def user_case(folder: Path, gearset: str, name: str, tilt: float, positions: int,
-              numerics: str = "") -> Path:  # fmt: skip
+def user_case(
+    folder: Path, gearset: str, name: str, tilt: float, positions: int, numerics: str = ""
+) -> Path:
     """A gear-set file (the paper's ``gearset`` under another name and torque) and a case file
     that names it by a relative path, both written to ``folder``: a user's own design;
     ``numerics``: the body of a ``[numerics]`` table, if any."""
@@ -76,8 +77,9 @@ def single(tmp_path_factory):
     folder = tmp_path_factory.mktemp("user_single")
     # its root stress, which no test here checks, on the global model: the submodels would
     # be most of its time (the double-pinion studies read theirs on submodels)
-    case = user_case(folder, "case1", "my_single", 8.80e7, positions=1,
-                     numerics='root_stress = "global"')  # fmt: skip
+    case = user_case(
+        folder, "case1", "my_single", 8.80e7, positions=1, numerics='root_stress = "global"'
+    )
     return folder / "results", _run(case, folder / "results")
 
 
@@ -107,14 +109,27 @@ def test_user_case_files_give_the_same_artefacts(single, double, ga):
     """A case file of one's own (any folder, its gear set beside it) runs like a built-in
     case and leaves the same artefacts, single or double pinion."""
     (out1, s1), (out2, s2), (out3, _) = single, double, ga
-    expected = {"summary.json", "positions", "fields", "contact_patterns.png",
-                "contact_pattern_<mesh>.png", "flank_patterns.png", "loaded_scene.png"}  # fmt: skip
+    expected = {
+        "summary.json",
+        "positions",
+        "fields",
+        "contact_patterns.png",
+        "contact_pattern_<mesh>.png",
+        "flank_patterns.png",
+        "loaded_scene.png",
+    }
     for folder in (out1 / "my_single", out2 / "my_double", out3 / "2B-GA"):
         assert _artefacts(folder) == expected, folder
     assert sorted(p.name for p in (out2 / "my_double" / "positions").iterdir()) == [
-        "0.json", "1.json"]  # fmt: skip
+        "0.json",
+        "1.json",
+    ]
     assert sorted(p.name for p in (out2 / "my_double" / "fields").iterdir()) == [
-        "RP.bp", "SP.bp", "ring.bp", "sun.bp"]  # fmt: skip
+        "RP.bp",
+        "SP.bp",
+        "ring.bp",
+        "sun.bp",
+    ]
     assert len(list((out2 / "my_double").glob("contact_pattern_*.png"))) == 3  # three meshes
     for s in (s1, s2):
         assert s["inputs"]["gearset"]["input_torque"] == TORQUE
@@ -148,14 +163,30 @@ def test_double_summary_keys(double):
         assert s[new] == s[old]
         for p in s["positions"]:
             assert p[new] == p[old]
-    for key in (*ISSUE12, "Mx_SP", "My_SP", "Mx_RP", "My_RP", "ZS", "Z_SPRP", "ZR",
-                "M_LOA_SPRP_diff", "f_ma_SPRP_um"):  # fmt: skip
+    for key in (
+        *ISSUE12,
+        "Mx_SP",
+        "My_SP",
+        "Mx_RP",
+        "My_RP",
+        "ZS",
+        "Z_SPRP",
+        "ZR",
+        "M_LOA_SPRP_diff",
+        "f_ma_SPRP_um",
+    ):
         assert s[key] == pytest.approx(sum(p[key] for p in s["positions"]) / 2, rel=1e-12)
     assert s["M_LOA_SPRP_diff"] == pytest.approx(s["M_LOA_SP_RP"] + s["M_LOA_RP_SP"], rel=1e-12)
     assert set(s["bearing_force_N"]) == {"SP", "RP"}
     assert {"Z_sun-SP_SP", "Z_SP-RP_SP", "Z_SP-RP_RP", "Z_RP-ring_RP"} <= set(s["mesh_offsets_mm"])
     assert set(s["bending_stress"]) - {"locations"} == {
-        "sun", "SP_sun_side", "SP_RP_side", "RP_SP_side", "RP_ring_side", "ring"}  # fmt: skip
+        "sun",
+        "SP_sun_side",
+        "SP_RP_side",
+        "RP_SP_side",
+        "RP_ring_side",
+        "ring",
+    }
     assert set(s["contact_stress_cycle"]) == {"sun_SP", "SP_RP", "RP_ring"}
 
 
@@ -238,8 +269,10 @@ def test_sp_rp_differential_split_is_exact(ga, double):
     29 mm) to round-off; with rigid bearings it is far below 1 um."""
     for (out, s), name in ((ga, "2B-GA"), (double, "my_double")):
         t5 = s["analytic"]["table5"]["M_LOA_SPRP_diff"]
-        assert t5 == pytest.approx(s["analytic"]["table5"]["M_LOA_SP_RP"]
-                                   + s["analytic"]["table5"]["M_LOA_RP_SP"], rel=1e-12)  # fmt: skip
+        assert t5 == pytest.approx(
+            s["analytic"]["table5"]["M_LOA_SP_RP"] + s["analytic"]["table5"]["M_LOA_RP_SP"],
+            rel=1e-12,
+        )
         k = s["inputs"]["study_case"]["bearing"]["tilting_stiffness"]
         for i, p in enumerate(s["positions"]):
             d = p["sp_rp_differential"]
@@ -264,8 +297,9 @@ def test_case2_report_of_a_user_case(double, ga, tmp_path):
     out2, _ = double
     out_ga, _ = ga
     (out2 / "2B-GA").symlink_to(out_ga / "2B-GA")
-    path = write_report(out2, ["my_double", "2B-GA"], out=tmp_path / "case2",
-                        tables=tmp_path / "none.json")  # fmt: skip
+    path = write_report(
+        out2, ["my_double", "2B-GA"], out=tmp_path / "case2", tables=tmp_path / "none.json"
+    )
     text = path.read_text()
     assert "computed from the gear set in the summaries' inputs" in text
     assert text.index("| 2B-GA |") < text.index("| my_double |")  # rigid bearing first
@@ -289,8 +323,9 @@ def test_one_page_report_and_wall_time(single, double, tmp_path):
     assert "| my_single | [my_single](my_single) | one_branch |" in text
     assert f"**{rec['wall_s'] / 60:.1f} min**, within the 20-minute goal" in text
     assert record_wall_time(out1, stamp) is None  # no stamp: nothing recorded again
-    assert math.isclose(json.loads((out1 / "bench" / "make_all.json").read_text())["wall_s"],
-                        rec["wall_s"])  # fmt: skip
+    assert math.isclose(
+        json.loads((out1 / "bench" / "make_all.json").read_text())["wall_s"], rec["wall_s"]
+    )
 
 
 @pytest.mark.mpi

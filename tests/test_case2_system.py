@@ -69,8 +69,9 @@ def test_case2_carrier_has_an_sp_and_an_rp_pin_per_pair(case2):
         psi = 2 * math.pi * k / 3
         sp, rp = centres[2 * k], centres[2 * k + 1]
         assert np.allclose(sp, a1 * np.array([math.cos(psi), math.sin(psi)]), atol=1e-12)
-        assert np.allclose(rp, a3 * np.array([math.cos(psi + psi_t), math.sin(psi + psi_t)]),
-                           atol=1e-12)  # fmt: skip
+        assert np.allclose(
+            rp, a3 * np.array([math.cos(psi + psi_t), math.sin(psi + psi_t)]), atol=1e-12
+        )
     scene = build_scene("system", case2, 0.0)
     assert scene.pinion_names == ("SP1", "RP1", "SP2", "RP2", "SP3", "RP3")
     for name, c in zip(scene.pinion_names, centres, strict=True):
@@ -87,8 +88,10 @@ def test_case2_posts_clear_every_pinion(case2):
     posts = spec.post_centres()
     assert len(posts) == 3
     for p in posts:
-        clear = [np.linalg.norm(p - c) - t - spec.post_radius
-                 for c, t in zip(spec.pin_centres(), tips, strict=True)]  # fmt: skip
+        clear = [
+            np.linalg.norm(p - c) - t - spec.post_radius
+            for c, t in zip(spec.pin_centres(), tips, strict=True)
+        ]
         assert min(clear) >= MIN_POST_CLEARANCE
         r = np.hypot(*p)
         # a post tangent to a rim leaves a knife-edge of plate (slivers): POST_RIM_MARGIN kept
@@ -115,8 +118,9 @@ def test_single_pinion_carrier_unchanged():
     assert spec.pin_radii is None and spec.posts is None
     assert "pin_radii" not in spec.params() and "posts" not in spec.params()
     a = sorted(spec.pin_angles)
-    assert np.allclose(spec.post_angles(), [(a[0] + a[1]) / 2, (a[1] + a[2]) / 2,
-                                            (a[2] + a[0] + 2 * math.pi) / 2])  # fmt: skip
+    assert np.allclose(
+        spec.post_angles(), [(a[0] + a[1]) / 2, (a[1] + a[2]) / 2, (a[2] + a[0] + 2 * math.pi) / 2]
+    )
 
 
 def test_pin_errors_per_branch_go_to_the_sp_pin():
@@ -233,8 +237,9 @@ def test_case2_system_parallel_equals_serial():
         assert par[k] == pytest.approx(ser[k], rel=1e-6, abs=1e-6 * 29.0), k
     for a, b in zip(par["branches"], ser["branches"], strict=True):
         assert a["load_share"] == pytest.approx(b["load_share"], rel=1e-6)
-    assert np.allclose(par["sun_centre_displacement_mm"], ser["sun_centre_displacement_mm"],
-                       rtol=1e-6, atol=1e-9)  # fmt: skip
+    assert np.allclose(
+        par["sun_centre_displacement_mm"], ser["sun_centre_displacement_mm"], rtol=1e-6, atol=1e-9
+    )
     assert par["carrier"]["windup_rad"] == pytest.approx(ser["carrier"]["windup_rad"], rel=1e-6)
 
 
@@ -247,21 +252,42 @@ def test_system_report_double_pinion(tmp_path):
 
     from postprocess.system_report import write_system_report
 
-    gearset = {"kind": "double_pinion", "planets": 3, "power_path": ["sun", "SP", "RP", "ring"],
-               "gears": {"sun": {"teeth": 35}, "SP": {"teeth": 26}, "RP": {"teeth": 24},
-                         "ring": {"teeth": 92}},
-               "meshes": [{"centre_distance": 51.945}, {"centre_distance": 42.75},
-                          {"centre_distance": 58.6}]}  # fmt: skip
-    inputs = {"gearset": gearset, "study_case": {
-        "bearing": {"radial_stiffness": 2.33e6, "tilting_stiffness": 8.8e7},
-        "material": {"gear_modulus_factor": 1.0}}}  # fmt: skip
+    gearset = {
+        "kind": "double_pinion",
+        "planets": 3,
+        "power_path": ["sun", "SP", "RP", "ring"],
+        "gears": {
+            "sun": {"teeth": 35},
+            "SP": {"teeth": 26},
+            "RP": {"teeth": 24},
+            "ring": {"teeth": 92},
+        },
+        "meshes": [
+            {"centre_distance": 51.945},
+            {"centre_distance": 42.75},
+            {"centre_distance": 58.6},
+        ],
+    }
+    inputs = {
+        "gearset": gearset,
+        "study_case": {
+            "bearing": {"radial_stiffness": 2.33e6, "tilting_stiffness": 8.8e7},
+            "material": {"gear_modulus_factor": 1.0},
+        },
+    }
     keys = ("Mx_SP", "My_SP", "Mx_RP", "My_RP", "ZS", "Z_SPRP", "ZR", *LOA)
     base = {k: float(i + 1) for i, k in enumerate(keys)}
     branch = {"inputs": inputs, "level": 0, **base, "M_LOA_SPRP_diff": 3.0}
     pairs = [{"angle_deg": a, "load_share": 1.0, **base} for a in (0.0, 120.0, 240.0)]
-    system = {**branch, "M_LOA_sun_SP": base["M_LOA_sun_SP"] - 20.0, "pinions": pairs,
-              "K_gamma": 1.0, "carrier_windup_rad": -3e-4, "torque_balance_rel": 1e-14,
-              "sun_centre_displacement_mm": [1e-4, -1e-4]}  # fmt: skip
+    system = {
+        **branch,
+        "M_LOA_sun_SP": base["M_LOA_sun_SP"] - 20.0,
+        "pinions": pairs,
+        "K_gamma": 1.0,
+        "carrier_windup_rad": -3e-4,
+        "torque_balance_rel": 1e-14,
+        "sun_centre_displacement_mm": [1e-4, -1e-4],
+    }
     for folder, s in ((tmp_path / "b", branch), (tmp_path / "s", system)):
         (folder / "2X").mkdir(parents=True)
         (folder / "2X" / "summary.json").write_text(json.dumps(s))
@@ -280,8 +306,10 @@ def test_system_report_root_stress_rows_in_the_branch_order():
 
     order = ("sun", "pinion_sun_side", "pinion_ring_side", "ring")
     branch = {"bending_stress": {k: 100.0 + j for j, k in enumerate(order)}}
-    system = {"bending_stress_set": {k: 200.0 for k in reversed(order)},
-              "bending_stress_set_key": {k: k for k in order}}  # fmt: skip
+    system = {
+        "bending_stress_set": {k: 200.0 for k in reversed(order)},
+        "bending_stress_set_key": {k: k for k in order},
+    }
     rows = [r for r in _root_stress_text({"X": branch}, {"X": system}) if r.startswith("| X")]
     assert [r.split(" | ")[1] for r in rows] == list(order)
     assert rows[0].startswith("| X | sun | 100 | 200 (sun) | 2.000 |")

@@ -70,8 +70,9 @@ def test_a_zone_gap_limit_with_the_line_model_is_refused_not_ignored():
     data["numerics"].update(contact_model="line", zone_gap_limit_um=20.0)
     with pytest.raises(CaseError) as info:
         parse_study_case(data, "1-GB.toml")
-    assert str(info.value).startswith("1-GB.toml: numerics.zone_gap_limit_um: only for "
-                                      "contact_model = 'zone'")  # fmt: skip
+    assert str(info.value).startswith(
+        "1-GB.toml: numerics.zone_gap_limit_um: only for contact_model = 'zone'"
+    )
     del data["numerics"]["zone_gap_limit_um"]
     assert parse_study_case(data, "1-GB.toml").numerics.contact_model == "line"
     data["numerics"].update(contact_model="zone", zone_gap_limit_um=20.0)
@@ -428,19 +429,29 @@ def test_study_inputs_are_json_with_resolved_data():
     assert json.loads(json.dumps(inputs, allow_nan=False)) == inputs
     sc, gs = inputs["study_case"], inputs["gearset"]
     assert sc["numerics"] == {
-        "degree": 1, "penalty_factor": 100.0, "grid_spacing": None,
-        "contact_model": "zone", "zone_gap_limit_um": 40.0,
-        "linear_solver": "mumps", "linear_tolerance": None, "root_fillets": "auto",
+        "degree": 1,
+        "penalty_factor": 100.0,
+        "grid_spacing": None,
+        "contact_model": "zone",
+        "zone_gap_limit_um": 40.0,
+        "linear_solver": "mumps",
+        "linear_tolerance": None,
+        "root_fillets": "auto",
         "root_stress": "submodel",
-    }  # fmt: skip
+    }
     assert sc["material"] == {
         "youngs_modulus": 206e3,
         "poisson_ratio": 0.3,
         "gear_modulus_factor": 1.0,
     }
     assert sc["bearing"]["axial_stiffness"] == 2.33e10  # default filled in
-    assert sc["model"] == {"scene": "one_branch", "level": 1, "flank_level": 2, "fillet_level": 2,
-                           "positions": 5}  # fmt: skip
+    assert sc["model"] == {
+        "scene": "one_branch",
+        "level": 1,
+        "flank_level": 2,
+        "fillet_level": 2,
+        "positions": 5,
+    }
     assert (gs["kind"], gs["planets"], gs["input_torque"]) == ("single_pinion", 3, 1378.7)
     assert gs["power_path"] == ["sun", "pinion", "ring"]
     assert set(gs["gears"]["ring"]) == {f.name for f in dataclasses.fields(GearSpec)}

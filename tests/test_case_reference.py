@@ -71,8 +71,9 @@ def test_drift_is_an_error(monkeypatch):
         table_rows("case")
 
 
-@pytest.mark.parametrize(("table", "key", "doc"), list(_case_fields()),
-                         ids=lambda v: v if isinstance(v, str) else "")  # fmt: skip
+@pytest.mark.parametrize(
+    ("table", "key", "doc"), list(_case_fields()), ids=lambda v: v if isinstance(v, str) else ""
+)
 def test_every_case_field_is_read_and_checked(table, key, doc):
     """A value of no allowed type is refused naming the field: the validator reads it (an
     unknown field would be refused as unknown)."""
@@ -83,8 +84,9 @@ def test_every_case_field_is_read_and_checked(table, key, doc):
     assert key in message and "unknown field" not in message
 
 
-@pytest.mark.parametrize(("table", "key", "doc"), list(_gearset_paths()),
-                         ids=lambda v: v if isinstance(v, str) else "")  # fmt: skip
+@pytest.mark.parametrize(
+    ("table", "key", "doc"), list(_gearset_paths()), ids=lambda v: v if isinstance(v, str) else ""
+)
 def test_every_gearset_field_is_read_and_checked(table, key, doc):
     data = copy.deepcopy(GEARSET)
     target = {
@@ -124,8 +126,11 @@ def test_the_probed_ranges_cover_the_numeric_fields():
     assert numeric - probed == {("system", "sun_radial_stiffness"), ("numerics", "degree")}
 
 
-@pytest.mark.parametrize(("table", "key", "lo", "lo_in", "hi", "hi_in", "kind"), BOUNDS,
-                         ids=lambda v: v if isinstance(v, str) else "")  # fmt: skip
+@pytest.mark.parametrize(
+    ("table", "key", "lo", "lo_in", "hi", "hi_in", "kind"),
+    BOUNDS,
+    ids=lambda v: v if isinstance(v, str) else "",
+)
 def test_the_printed_range_is_the_enforced_range(table, key, lo, lo_in, hi, hi_in, kind):
     """At a closed bound the value is accepted; just beyond either bound it is refused with
     the field named (1e-9 relative: far below any printed digit, far above round-off)."""

@@ -36,8 +36,9 @@ def _sigint_default():
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
-@pytest.mark.parametrize(("sig", "why"), [(signal.SIGTERM, "stopped by SIGTERM"),
-                                          (signal.SIGINT, "Ctrl-C")])  # fmt: skip
+@pytest.mark.parametrize(
+    ("sig", "why"), [(signal.SIGTERM, "stopped by SIGTERM"), (signal.SIGINT, "Ctrl-C")]
+)
 def test_a_signal_unwinds_and_removes_the_folder(tmp_path, sig, why):
     """Without the handler SIGTERM ends the process at once: the folder stays and the exit
     status is -15, so both assertions fail. Ctrl-C (SIGINT) ends the same way, and says
@@ -45,9 +46,14 @@ def test_a_signal_unwinds_and_removes_the_folder(tmp_path, sig, why):
     # a shell that starts a job in the background (`make test &`) ignores SIGINT in it, and
     # a Python started with SIGINT ignored never installs its Ctrl-C handler: give the
     # child a terminal's default, as a user at a prompt has
-    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(tmp_path)], cwd=REPO,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            preexec_fn=_sigint_default)  # fmt: skip
+    proc = subprocess.Popen(
+        [sys.executable, "-c", CHILD, str(tmp_path)],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=_sigint_default,
+    )
     folder = Path(proc.stdout.readline().strip())
     assert folder.is_dir()
     os.kill(proc.pid, sig)
@@ -79,10 +85,26 @@ def test_a_case_run_stops_on_sigterm_and_says_so(tmp_path):
     """``python -m studies.run`` (serial) stopped by SIGTERM while it solves: the interrupted
     exit code and its one line, as Ctrl-C gives, no traceback (without the handler it ends
     at once with status -15 and says nothing)."""
-    proc = subprocess.Popen([sys.executable, "-u", "-m", "studies.run", "1-GA", "--level",
-                             "0", "--positions", "2", "--out", str(tmp_path)], cwd=REPO,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            preexec_fn=_sigint_default)  # fmt: skip
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-u",
+            "-m",
+            "studies.run",
+            "1-GA",
+            "--level",
+            "0",
+            "--positions",
+            "2",
+            "--out",
+            str(tmp_path),
+        ],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=_sigint_default,
+    )
     seen = ""
     while "position 1/2: scene" not in seen:  # the first position has begun (its stage line
         char = proc.stdout.read(1)  # opens and stays open until the position ends)

@@ -39,19 +39,26 @@ def synthetic_position(study, scene, w_of) -> dict:
             "driven": zn.driven,
             "gears": [scene.gear(zn.driver).gear_name, scene.gear(zn.driven).gear_name],
             "active_points": int(np.count_nonzero(w)),
-            "points": {"x_mm": x.tolist(), "force_N": (w * SPACING).tolist(),
-                       "line_load_N_per_mm": w.tolist()},
+            "points": {
+                "x_mm": x.tolist(),
+                "force_N": (w * SPACING).tolist(),
+                "line_load_N_per_mm": w.tolist(),
+            },
             "on": {pinion: {"Z_mm": 0.0}},
-        }  # fmt: skip
+        }
         grid_lines[name] = rows
     return {
         "roll": scene.roll,
         "meshes": meshes,
         "grid_lines": grid_lines,
         "grid_spacing_mm": SPACING,
-        "pinions": {pinion: {"centre_mm": [*scene.gear(pinion).placement.centre, 0.0],
-                             "frame": [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]}},
-    }  # fmt: skip
+        "pinions": {
+            pinion: {
+                "centre_mm": [*scene.gear(pinion).placement.centre, 0.0],
+                "frame": [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]],
+            }
+        },
+    }
 
 
 def _s(pair, x):
@@ -178,8 +185,11 @@ def test_line_ends_and_tip_form_points(cycle):
     r_p = pin.reference_radius
     x = (r_s**2 - r_p**2 + a * a) / (2 * a)
     pts = np.c_[x, np.sqrt(r_s**2 - x**2), np.zeros_like(x)]
-    probe = {**pos, "grid_lines": {}, "meshes": {"sun-pinion": {
-        **pos["meshes"]["sun-pinion"], "points": {"x_mm": pts.tolist()}}}}  # fmt: skip
+    probe = {
+        **pos,
+        "grid_lines": {},
+        "meshes": {"sun-pinion": {**pos["meshes"]["sun-pinion"], "points": {"x_mm": pts.tolist()}}},
+    }
     tip_form = edge_points(study.gearset, probe)["sun-pinion"]["tip_form"]
     assert tip_form.tolist() == [True, True, True, True, True, False, False]
 
@@ -209,10 +219,15 @@ def test_planet_meshes_reduce_to_the_gear_set_meshes():
     assert set_mesh("sun-pinion2", gears) == "sun_pinion"
     assert set_mesh("pinion13-ring", gears) == "pinion_ring"
     assert set_mesh("sun-pinion", gears) == "sun_pinion"
-    cycle = {"sun-pinion1": {"interior_p_max_MPa": 2100.0, "sigma_H_MPa": 2300.0},
-             "sun-pinion2": {"interior_p_max_MPa": 2200.0, "sigma_H_MPa": 2250.0},
-             "pinion1-ring": {"interior_p_max_MPa": 1400.0, "sigma_H_MPa": None}}  # fmt: skip
+    cycle = {
+        "sun-pinion1": {"interior_p_max_MPa": 2100.0, "sigma_H_MPa": 2300.0},
+        "sun-pinion2": {"interior_p_max_MPa": 2200.0, "sigma_H_MPa": 2250.0},
+        "pinion1-ring": {"interior_p_max_MPa": 1400.0, "sigma_H_MPa": None},
+    }
     out = cycle_set(cycle, gears)
-    assert out["sun_pinion"] == {"mesh": "sun_pinion2", "interior_p_max_MPa": 2200.0,
-                                 "sigma_H_MPa": 2300.0}  # fmt: skip
+    assert out["sun_pinion"] == {
+        "mesh": "sun_pinion2",
+        "interior_p_max_MPa": 2200.0,
+        "sigma_H_MPa": 2300.0,
+    }
     assert out["pinion_ring"] == {"mesh": "pinion1_ring", "interior_p_max_MPa": 1400.0}

@@ -45,12 +45,18 @@ def scene():
 def test_contact_model_defaults_and_validation():
     assert (DEFAULTS.contact_model, DEFAULTS.zone_gap_limit_um) == ("zone", 40.0)
     assert Numerics(contact_model="zone", zone_gap_limit_um=25).zone_gap_limit_um == 25.0
-    with pytest.raises(CaseError, match=r"numerics\.contact_model = 'hertz': must be one of "
-                                        r"'line', 'zone'"):  # fmt: skip
+    with pytest.raises(
+        CaseError,
+        match=r"numerics\.contact_model = 'hertz': must be one of "
+        r"'line', 'zone'",
+    ):
         Numerics(contact_model="hertz")
     for bad in (0.5, 501, math.nan, "40", True):
-        with pytest.raises(CaseError, match=r"numerics\.zone_gap_limit_um = .*: must be a "
-                                            r"number in \[1, 500\] um"):  # fmt: skip
+        with pytest.raises(
+            CaseError,
+            match=r"numerics\.zone_gap_limit_um = .*: must be a "
+            r"number in \[1, 500\] um",
+        ):
             Numerics(zone_gap_limit_um=bad)
 
 
@@ -131,8 +137,9 @@ def test_involute_normal_is_the_gradient_of_the_exact_distance(scene):
                 x = line.x_a + off * line.normals
                 loc = involute_normal(pg.gear, pg.placement.inverse(x), side)
                 c, s = math.cos(pg.placement.angle), math.sin(pg.placement.angle)
-                glob = np.c_[c * loc[:, 0] - s * loc[:, 1], s * loc[:, 0] + c * loc[:, 1],
-                             loc[:, 2]]  # fmt: skip
+                glob = np.c_[
+                    c * loc[:, 0] - s * loc[:, 1], s * loc[:, 0] + c * loc[:, 1], loc[:, 2]
+                ]
                 assert np.abs(glob - _flank_normal(pg, side, x)).max() < 1e-9
 
 
@@ -150,8 +157,9 @@ def test_zone_grid_normals_follow_the_corner_rule(scene, zi, flanks):
     zn = scene.zones[zi]
     drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
     view = zn if flanks == "drive" else mesh_zones.coast_zone(zn, drv, dvn)
-    grid, info, link = zone_grid(view, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES,
-                                 relative=flanks == "coast")  # fmt: skip
+    grid, info, link = zone_grid(
+        view, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES, relative=flanks == "coast"
+    )
     line, _ = flank_grid(view, drv, dvn, 0.7)
     n_a = _flank_normal(drv, view.driver_side, grid.x_a)
     n_b = -_flank_normal(dvn, view.driven_side, grid.x_a)  # out of the driven flank, negated
@@ -237,8 +245,9 @@ def _e_plane(scene, e=E_PLANE):
 
 def test_pairs_switch_between_line_and_zone(scene):
     _, line_pairs = flank_contact_pairs(scene, 0.7, None, None)
-    grids, zone_pairs = flank_contact_pairs(scene, 0.7, None, None, contact_model="zone",
-                                            e_plane=_e_plane(scene))  # fmt: skip
+    grids, zone_pairs = flank_contact_pairs(
+        scene, 0.7, None, None, contact_model="zone", e_plane=_e_plane(scene)
+    )
     assert all(p.link is None for p in line_pairs)
     # drive and coast flanks zoned; the coast pairs standby (open by the backlash) as before
     assert all(p.link is not None for p in zone_pairs)
@@ -346,13 +355,18 @@ def test_coast_zone_falls_back_to_its_line_grid(scene, monkeypatch):
 
     monkeypatch.setattr(fg, "zone_grid", refuse_coast)
     with pytest.warns(UserWarning, match="coast flanks keep their contact-line grid"):
-        grids, pairs = fg.flank_contact_pairs(scene, 0.7, None, None, contact_model="zone",
-                                              e_plane=_e_plane(scene))  # fmt: skip
+        grids, pairs = fg.flank_contact_pairs(
+            scene, 0.7, None, None, contact_model="zone", e_plane=_e_plane(scene)
+        )
     coast = [p for p in pairs if p.standby]
     assert len(coast) == 2 and all(p.link is None for p in coast)
     for p in coast:
-        line, _ = flank_grid(_coast(scene, 0 if "sun" in p.grid.name else 1)[1],
-                             scene.gear(p.body_a), scene.gear(p.body_b), 0.7)  # fmt: skip
+        line, _ = flank_grid(
+            _coast(scene, 0 if "sun" in p.grid.name else 1)[1],
+            scene.gear(p.body_a),
+            scene.gear(p.body_b),
+            0.7,
+        )
         assert np.array_equal(p.grid.x_a, line.x_a)
         assert "no flank point within 40 um" in grids[p.grid.name][1].fallback
     assert all(p.link is not None for p in pairs if not p.standby)  # no fallback on drive

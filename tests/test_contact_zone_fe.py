@@ -54,26 +54,41 @@ def _zone_pair(info) -> ContactPair:
         t[:, 1, 0] = 1.0
         y_r = R - np.sqrt(R**2 - x**2)
         return ContactGrid(
-            name, np.c_[x, np.zeros(m), z], np.c_[x, y_r, z], np.tile([0.0, 1.0, 0.0], (m, 1)),
-            y_r, s * wx, tangents=t, half_sizes=np.c_[np.full(m, s / 2), wx / 2],
-            stations=st, station_length=np.full(nz, s),
-        )  # fmt: skip
+            name,
+            np.c_[x, np.zeros(m), z],
+            np.c_[x, y_r, z],
+            np.tile([0.0, 1.0, 0.0], (m, 1)),
+            y_r,
+            s * wx,
+            tangents=t,
+            half_sizes=np.c_[np.full(m, s / 2), wx / 2],
+            stations=st,
+            station_length=np.full(nz, s),
+        )
 
     fine = grid("roller-block", X, Z, DX, sec)
     coarse = grid("roller-block#coarse", np.zeros(nz), zc, np.full(nz, s), np.arange(nz))
     link = ZoneLink(
-        coarse, sec, np.c_[Z, X], np.c_[np.full(n, s / 2), DX / 2],
-        np.c_[zc, np.zeros(nz)], np.full((nz, 2), s / 2), np.zeros(n, int), np.zeros(nz, int),
-        np.full(nz, s), np.full(nz, s),
-    )  # fmt: skip
+        coarse,
+        sec,
+        np.c_[Z, X],
+        np.c_[np.full(n, s / 2), DX / 2],
+        np.c_[zc, np.zeros(nz)],
+        np.full((nz, 2), s / 2),
+        np.zeros(n, int),
+        np.zeros(nz, int),
+        np.full(nz, s),
+        np.full(nz, s),
+    )
     return ContactPair(fine, "block", "roller", link=link)
 
 
 def _problem(comm, factor=100.0):
     base, info = roller_scene(comm, h_min=H, degree=1, q=Q)
     pair = _zone_pair(info)
-    problem = ContactProblem(list(base.bodies.values()), [pair], base.rigid_unknowns,
-                             penalty_factor=factor)  # fmt: skip
+    problem = ContactProblem(
+        list(base.bodies.values()), [pair], base.rigid_unknowns, penalty_factor=factor
+    )
     return problem, info
 
 

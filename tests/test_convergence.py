@@ -196,9 +196,15 @@ def test_an_offset_carries_its_relative_uncertainty_to_another_case_or_none():
     src = {"case": "2B-GA"}
     study_u = {"ZS": 1.37, "f_ma_SPRP_um": 0.0106, "M_LOA_SPRP_diff": 0.0106}
     study_abs = {"ZS": 0.017, "f_ma_SPRP_um": 0.00086, "M_LOA_SPRP_diff": 0.26}
-    gb = {"case": "2B-GB", "ZS": -3.69, "f_ma_SPRP_um": 7.6, "M_LOA_SPRP_diff": 30.0,
-          "uncertainty": study_u, "uncertainty_abs": study_abs,
-          "uncertainty_source": src}  # fmt: skip
+    gb = {
+        "case": "2B-GB",
+        "ZS": -3.69,
+        "f_ma_SPRP_um": 7.6,
+        "M_LOA_SPRP_diff": 30.0,
+        "uncertainty": study_u,
+        "uncertainty_abs": study_abs,
+        "uncertainty_source": src,
+    }
     assert plus_minus(gb, "M_LOA_SPRP_diff") == " ± 0.3"  # 1.06 % of 30 N m
     assert plus_minus(gb, "f_ma_SPRP_um", ".2f") == " ± 0.08"  # 1.06 % of 7.6 um
     assert plus_minus(gb, "ZS", ".2f") == NOT_CARRIED  # the study's ZS is within its U of 0
@@ -219,10 +225,15 @@ def test_another_case_takes_at_least_the_studys_absolute_uncertainty():
     is at least the study's absolute U. The same for a difference of two moments (its
     error is its moments', not its own size); a plain moment keeps its relative U."""
     src = {"case": "1-GB"}
-    ga = {"case": "1-GA", "ZS": -0.19, "My_pin": 40.0, "M_LOA_SPRP_diff": 5.0,
-          "uncertainty": {"ZS": 0.031, "My_pin": 0.02, "M_LOA_SPRP_diff": 0.0106},
-          "uncertainty_abs": {"ZS": 0.096, "My_pin": 4.3, "M_LOA_SPRP_diff": 0.26},
-          "uncertainty_source": src}  # fmt: skip
+    ga = {
+        "case": "1-GA",
+        "ZS": -0.19,
+        "My_pin": 40.0,
+        "M_LOA_SPRP_diff": 5.0,
+        "uncertainty": {"ZS": 0.031, "My_pin": 0.02, "M_LOA_SPRP_diff": 0.0106},
+        "uncertainty_abs": {"ZS": 0.096, "My_pin": 4.3, "M_LOA_SPRP_diff": 0.26},
+        "uncertainty_source": src,
+    }
     assert plus_minus(ga, "ZS", ".3f") == " ± 0.096"  # not 0.031 x 0.19 = 0.006
     assert plus_minus({**ga, "ZS": -9.0}, "ZS", ".2f") == " ± 0.28"  # 3.1 % of 9 mm
     assert plus_minus(ga, "M_LOA_SPRP_diff", ".2f") == " ± 0.26"  # not 1.06 % of 5 N m

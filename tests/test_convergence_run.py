@@ -35,15 +35,29 @@ def level0(tmp_path_factory):
     for level, seconds in ((0, 10.0), (1, 20.0), (2, 110.0)):  # a ladder around the real run
         scale = {0: 1.0, 1: 0.5, 2: 0.2}[level]
         scalars = {k: v * (1.0 + 0.01 * scale) for k, v in row["scalars"].items()}
-        rows.append({**row, "level": level, "label": f"L{level}P1", "scalars": scalars,
-                     "h_mm": {"fine": 1.0 - 0.3 * level, "fillet": 0.6 - 0.15 * level},
-                     "dofs": row["dofs"] * 3**level, "time_s": {"total": seconds}})  # fmt: skip
+        rows.append(
+            {
+                **row,
+                "level": level,
+                "label": f"L{level}P1",
+                "scalars": scalars,
+                "h_mm": {"fine": 1.0 - 0.3 * level, "fillet": 0.6 - 0.15 * level},
+                "dofs": row["dofs"] * 3**level,
+                "time_s": {"total": seconds},
+            }
+        )
     table = scalar_table(rows)
     study = load_study_case("1-GB")  # the study of another case of the same gear set
     # solved by today's code, as a make's own study would be: it then stands before the
     # recorded 1-GB study (a study of other code would not, studies.uncertainty)
-    conv = {"case": "1-GB", "match": match_key(study), "labels": ["L0P1", "L1P1", "L2P1"],
-            "positions": 1, "code_hash": code_hash(), "scalars": table}  # fmt: skip
+    conv = {
+        "case": "1-GB",
+        "match": match_key(study),
+        "labels": ["L0P1", "L1P1", "L2P1"],
+        "positions": 1,
+        "code_hash": code_hash(),
+        "scalars": table,
+    }
     (out / "convergence" / "1-GB").mkdir(parents=True)
     write_json(out / "convergence" / "1-GB" / STUDY_FILE, conv)
     progress = Progress(out=io.StringIO(), err=io.StringIO(), quiet=True)

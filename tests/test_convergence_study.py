@@ -75,8 +75,13 @@ def _flank_row(seconds: float = 30.0) -> dict:
     row = _row(1, 1, seconds, 5.0)
     two, one = _row(2, 1, 0, 0)["scalars"], row["scalars"]
     scalars = {k: (one if k.startswith("bending_stress") else two)[k] for k in one}
-    return {**row, "label": "L1P1F2", "flank_level": 2, "scalars": scalars,
-            "h_mm": {"fine": LEVELS[2].fine, "fillet": LEVELS[1].fillet}}  # fmt: skip
+    return {
+        **row,
+        "label": "L1P1F2",
+        "flank_level": 2,
+        "scalars": scalars,
+        "h_mm": {"fine": LEVELS[2].fine, "fillet": LEVELS[1].fillet},
+    }
 
 
 def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
@@ -120,12 +125,24 @@ def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
     assert v["flank_level"] == 2 and v["meets"]
     assert not next(v for v in rec["runs"] if v["run"] == "L1P1")["meets"]  # My_pin 1.8 %
     # cheaper than level 2 (30 against 110 s) and within every target: recommended
-    assert rec["recommended"] == {"run": "L1P1F2", "level": 1, "degree": 1, "flank_level": 2,
-                                  "time_s": 30.0, "peak_rss_mb": 5.0 * 1024}  # fmt: skip
-    conv = {"case": "1-GB", "match": {"gearset": "case1", "scene": "one_branch"},
-            "positions_note": "One position.", "ladder_degree": 1, "runs": rows,
-            "labels": [r["label"] for r in rows], "scalars": table,
-            "recommendation": rec}  # fmt: skip
+    assert rec["recommended"] == {
+        "run": "L1P1F2",
+        "level": 1,
+        "degree": 1,
+        "flank_level": 2,
+        "time_s": 30.0,
+        "peak_rss_mb": 5.0 * 1024,
+    }
+    conv = {
+        "case": "1-GB",
+        "match": {"gearset": "case1", "scene": "one_branch"},
+        "positions_note": "One position.",
+        "ladder_degree": 1,
+        "runs": rows,
+        "labels": [r["label"] for r in rows],
+        "scalars": table,
+        "recommendation": rec,
+    }
     text = write_report(conv, tmp_path).read_text()
     assert "| L1P1F2 | 1 (flanks and contact grid of 2) | 1 |" in text
     assert (
@@ -135,8 +152,10 @@ def test_a_run_with_another_levels_flanks_is_judged_off_the_ladder(tmp_path):
     assert ladder([*ROWS[:3], both])[1] == [both]
     text = write_report({**conv, "runs": [*rows, both]}, tmp_path).read_text()
     assert "| L1P1F2R2 | 1 (flanks and contact grid of 2; refined fillets of 2) | 1 |" in text
-    assert ("L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined "
-            "fillets, degree 1)") in text  # fmt: skip
+    assert (
+        "L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined "
+        "fillets, degree 1)"
+    ) in text
 
 
 def test_table_extrapolates_each_scalar_with_its_own_h():
@@ -202,8 +221,10 @@ def test_the_recovered_root_stress_is_the_target_where_a_study_holds_it():
     assert not any("bending_stress_tangent.ring" in v["failing"] for v in rec["runs"])
     assert rec["root_stress_targets"] == "recovered"
     # the old study's rows (no recovered reading): the nodal line is a target and fails
-    old = [dict(r, scalars={k: v for k, v in r["scalars"].items() if "recovered" not in k})
-           for r in rows]  # fmt: skip
+    old = [
+        dict(r, scalars={k: v for k, v in r["scalars"].items() if "recovered" not in k})
+        for r in rows
+    ]
     rec_old = recommend(old, scalar_table(old))
     assert rec_old["recommended"] is None
     assert all("bending_stress_tangent.ring" in v["failing"] for v in rec_old["runs"])
@@ -228,8 +249,9 @@ def test_the_recovered_root_stress_is_the_target_where_a_study_holds_it():
     got = compare_runs(a, b)["targets"]["stress"]
     assert got["key"] == "bending_stress_recovered.sun"
     assert got["max_rel_diff"] == pytest.approx(1e-3)
-    nodal = compare_runs({"scalars": {"bending_stress.sun": 700.0}},
-                         {"scalars": {"bending_stress.sun": 707.0}})  # fmt: skip
+    nodal = compare_runs(
+        {"scalars": {"bending_stress.sun": 700.0}}, {"scalars": {"bending_stress.sun": 707.0}}
+    )
     assert nodal["targets"]["stress"]["key"] == "bending_stress.sun"
 
 
@@ -294,13 +316,22 @@ def test_report_names_a_scalar_missing_from_a_ladder_run(tmp_path):
     every run has): the report names it and the run that lacks it, and that run fails the
     verdict."""
     rows = [dict(r) for r in ROWS]
-    rows[1] = {**rows[1], "scalars": {k: v for k, v in rows[1]["scalars"].items()
-                                      if k != "bending_stress.sun"}}  # fmt: skip
+    rows[1] = {
+        **rows[1],
+        "scalars": {k: v for k, v in rows[1]["scalars"].items() if k != "bending_stress.sun"},
+    }
     table = scalar_table(rows)
     assert "bending_stress.sun" not in table and "My_pin" in table
-    conv = {"case": "1-GB", "match": {"gearset": "case1", "scene": "one_branch"},
-            "positions_note": "One position.", "ladder_degree": 1, "runs": rows,
-            "skipped": [], "scalars": table, "recommendation": recommend(rows, table)}  # fmt: skip
+    conv = {
+        "case": "1-GB",
+        "match": {"gearset": "case1", "scene": "one_branch"},
+        "positions_note": "One position.",
+        "ladder_degree": 1,
+        "runs": rows,
+        "skipped": [],
+        "scalars": table,
+        "recommendation": recommend(rows, table),
+    }
     text = write_report(conv, tmp_path).read_text()
     assert "## Scalars missing from a ladder run (no ±; a targeted one fails that run)" in text
     assert "- bending_stress.sun: not in L1P1" in text
@@ -360,9 +391,16 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     table = scalar_table(ROWS)
     gb, ga = load_study_case("1-GB"), load_study_case("1-GA")
     ladder = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
-    conv = {"case": "1-GB", "match": match_key(gb), "labels": [r["label"] for r in ROWS],
-            "positions": 1, "code_hash": "x", "runs_code_hash": [code_hash()],
-            "ladder": ladder, "scalars": table}  # fmt: skip
+    conv = {
+        "case": "1-GB",
+        "match": match_key(gb),
+        "labels": [r["label"] for r in ROWS],
+        "positions": 1,
+        "code_hash": "x",
+        "runs_code_hash": [code_hash()],
+        "ladder": ladder,
+        "scalars": table,
+    }
     study_dir, records = tmp_path / "study", tmp_path / "records"
     study_dir.mkdir()
     (study_dir / "report.md").write_text("# the study\n")
@@ -409,8 +447,20 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     from studies.convergence import main
 
     out = tmp_path / "out"
-    argv = ["1-GA", "--levels", "0", "1", "2", "--extra", "--split-root-stress",
-            "--unless-recorded", "--records", str(records), "--out", str(out)]  # fmt: skip
+    argv = [
+        "1-GA",
+        "--levels",
+        "0",
+        "1",
+        "2",
+        "--extra",
+        "--split-root-stress",
+        "--unless-recorded",
+        "--records",
+        str(records),
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0 and not out.exists()
     # a study of this machine solved by today's code comes first
     mine = {**conv, "scalars": scalar_table(ROWS[:2])}
@@ -428,11 +478,21 @@ def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
 
     gb = load_study_case("1-GB")
     ladder = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
-    runs = [{"label": "L0P1"}, {"label": "L1P1", "error": "timeout after 3600 s"},
-            {"label": "L2P1"}]  # fmt: skip
-    conv = {"case": "1-GB", "match": match_key(gb), "labels": ladder["runs"], "positions": 1,
-            "code_hash": "x", "ladder": ladder, "scalars": scalar_table(ROWS),
-            "runs": runs}  # fmt: skip
+    runs = [
+        {"label": "L0P1"},
+        {"label": "L1P1", "error": "timeout after 3600 s"},
+        {"label": "L2P1"},
+    ]
+    conv = {
+        "case": "1-GB",
+        "match": match_key(gb),
+        "labels": ladder["runs"],
+        "positions": 1,
+        "code_hash": "x",
+        "ladder": ladder,
+        "scalars": scalar_table(ROWS),
+        "runs": runs,
+    }
     path = record(tmp_path / "study", conv, tmp_path / "records")
     assert recorded(gb, ladder, tmp_path / "records") is None
     assert "not the run(s) L1P1 (failed or skipped when recorded)" in capsys.readouterr().out
@@ -440,8 +500,15 @@ def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
     assert recorded(gb, ladder, tmp_path / "records") == path
     # an extra run skipped for memory (--min-free-gb) is missing as a failed one is
     extra = {**ladder, "runs": [*ladder["runs"], "L1P1F2"]}
-    skipped = [{"label": "L1P1F2", "level": 1, "degree": 1, "flank_level": 2,
-                "why": "MemAvailable 9.0 GB < 16 GB asked for"}]  # fmt: skip
+    skipped = [
+        {
+            "label": "L1P1F2",
+            "level": 1,
+            "degree": 1,
+            "flank_level": 2,
+            "why": "MemAvailable 9.0 GB < 16 GB asked for",
+        }
+    ]
     write_json(path, {**read_json(path), "ladder": extra, "skipped": skipped})
     assert recorded(gb, extra, tmp_path / "records") is None
     assert "not the run(s) L1P1F2 (failed or skipped" in capsys.readouterr().out
@@ -462,8 +529,19 @@ def test_record_refuses_a_study_with_a_failed_run(tmp_path, monkeypatch, capsys)
     (folder / "runs" / "L1P1.json").unlink()
     outcome = {"level": 1, "degree": 1, "error": "timeout after 3600 s"}
     monkeypatch.setattr(convergence, "run_child", lambda *a: dict(outcome))
-    argv = ["1-GB", "--levels", "0", "1", "2", "--extra", "--out", str(tmp_path), "--record",
-            "--records", str(records)]  # fmt: skip
+    argv = [
+        "1-GB",
+        "--levels",
+        "0",
+        "1",
+        "2",
+        "--extra",
+        "--out",
+        str(tmp_path),
+        "--record",
+        "--records",
+        str(records),
+    ]
     assert convergence.main(argv) == 2
     assert "--record: run(s) L1P1 failed" in capsys.readouterr().err
     assert (folder / STUDY_FILE).is_file() and not (records / case.name).exists()
@@ -480,14 +558,24 @@ def test_a_study_without_the_run_of_the_level_does_not_stand_before_one_with_it(
     from studies.provenance import code_hash
 
     ga, gb = load_study_case("1-GA"), load_study_case("1-GB")
-    full = {"case": "1-GB", "match": match_key(gb), "labels": [r["label"] for r in ROWS],
-            "positions": 1, "code_hash": "x", "runs_code_hash": ["1" * 16],
-            "ladder": {"runs": ["L0P1", "L1P1", "L2P1"]},
-            "scalars": scalar_table(ROWS)}  # fmt: skip
+    full = {
+        "case": "1-GB",
+        "match": match_key(gb),
+        "labels": [r["label"] for r in ROWS],
+        "positions": 1,
+        "code_hash": "x",
+        "runs_code_hash": ["1" * 16],
+        "ladder": {"runs": ["L0P1", "L1P1", "L2P1"]},
+        "scalars": scalar_table(ROWS),
+    }
     path = record(tmp_path / "study", full, tmp_path / "records")
     rows = [r for r in ROWS if r["label"] != "L1P1"]
-    broken = {**full, "labels": [r["label"] for r in rows], "runs_code_hash": [code_hash()],
-              "scalars": scalar_table(rows)}  # fmt: skip
+    broken = {
+        **full,
+        "labels": [r["label"] for r in rows],
+        "runs_code_hash": [code_hash()],
+        "scalars": scalar_table(rows),
+    }
     (tmp_path / "results" / "convergence" / "1-GB").mkdir(parents=True)
     write_json(tmp_path / "results" / "convergence" / "1-GB" / STUDY_FILE, broken)
     got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=tmp_path / "records")
@@ -546,11 +634,22 @@ def test_reduce_records_rewrites_stale_reductions(tmp_path):
 
     rows = [{**r, "label": f"L{r['level']}P{r['degree']}"} for r in ROWS[:3]]
     match = {"gearset": "case1", "scene": "one_branch"}
-    conv = {"case": "1-GB", "description": "x", "match": match, "code_hash": "x",
-            "runs_code_hash": ["x"], "positions": 1, "positions_note": "One position.",
-            "ladder_degree": 1, "ladder": {}, "labels": [r["label"] for r in rows],
-            "runs": rows, "skipped": [], "scalars": {"stale": {}},
-            "recommendation": {}}  # fmt: skip
+    conv = {
+        "case": "1-GB",
+        "description": "x",
+        "match": match,
+        "code_hash": "x",
+        "runs_code_hash": ["x"],
+        "positions": 1,
+        "positions_note": "One position.",
+        "ladder_degree": 1,
+        "ladder": {},
+        "labels": [r["label"] for r in rows],
+        "runs": rows,
+        "skipped": [],
+        "scalars": {"stale": {}},
+        "recommendation": {},
+    }
     (tmp_path / "1-GB").mkdir()
     write_json(tmp_path / "1-GB" / STUDY_FILE, conv)
     assert reduce_records(tmp_path) == [tmp_path / "1-GB" / STUDY_FILE]
@@ -649,8 +748,7 @@ def test_a_child_with_a_log_writes_its_stderr_there(tmp_path):
     from studies.position_runs import run_child
 
     log = tmp_path / "L0P1.log"
-    row = run_child("studies.convergence", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120,
-                    log)  # fmt: skip
+    row = run_child("studies.convergence", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120, log)
     assert "no-such-case" in log.read_text()
     assert any("no-such-case" in line for line in row["stderr_tail"])
 
@@ -669,8 +767,19 @@ def test_only_an_in_core_extra_run_waits_for_free_memory(tmp_path, monkeypatch):
         return dict(ROWS[3])
 
     monkeypatch.setattr(convergence, "run_child", child)
-    argv = ["1-GB", "--levels", "0", "1", "2", "--extra", "0:2", "--out", str(tmp_path),
-            "--min-free-gb", "1e9"]  # fmt: skip
+    argv = [
+        "1-GB",
+        "--levels",
+        "0",
+        "1",
+        "2",
+        "--extra",
+        "0:2",
+        "--out",
+        str(tmp_path),
+        "--min-free-gb",
+        "1e9",
+    ]
     _stored_runs(tmp_path / case.name, case, code_hash())
     assert convergence.main(argv) == 0
     assert calls == [] and read_json(tmp_path / case.name / STUDY_FILE)["skipped"]
@@ -702,9 +811,16 @@ def test_two_levels_give_the_two_grid_gci(tmp_path):
     GCI at both levels with the formal order of its kind (stress 1, moment 2), no
     extrapolated value and no error; the report says so where it states the method."""
     table = scalar_table(ROWS[:2])
-    conv = {"case": "x", "match": {"gearset": "case1", "scene": "one_branch"},
-            "positions_note": "One position.", "ladder_degree": 1, "labels": ["L0P1", "L1P1"],
-            "runs": ROWS[:2], "skipped": [], "scalars": table}  # fmt: skip
+    conv = {
+        "case": "x",
+        "match": {"gearset": "case1", "scene": "one_branch"},
+        "positions_note": "One position.",
+        "ladder_degree": 1,
+        "labels": ["L0P1", "L1P1"],
+        "runs": ROWS[:2],
+        "skipped": [],
+        "scalars": table,
+    }
     conv["recommendation"] = recommend(ROWS[:2], table)
     text = write_report(conv, tmp_path).read_text()
     assert "two finished ladder levels only" in text and "factor of safety 3" in text
@@ -756,16 +872,25 @@ def _split_rows(extras: bool = True, case_level: int = 1) -> list[dict]:
     rows = []
     for level in (0, 1, 2):
         h, f = LEVELS[level].fine, submodel_level(level).fillet
-        extra = [submodel_level(k).fillet for k in (near if level == case_level else
-                                                    (case_level,))]  # fmt: skip
-        rows.append({
-            "label": f"L{level}P1", "level": level, "degree": 1, "dofs": int(2e5 / h**3),
-            "h_mm": {"fine": h, "fillet": f}, "grid_points_total": 100,
-            "time_s": {"total": 10.0 * (level + 1), "factorization": 1.0, "compliance": 1.0},
-            "peak_rss_mb": 1024.0, "scalars": {"bending_stress.ring": _separable(h, f)},
-            "fillet_scalars": {f"{x:g}": {"bending_stress.ring": _separable(h, x)}
-                               for x in extra} if extras else {},
-        })  # fmt: skip
+        extra = [submodel_level(k).fillet for k in (near if level == case_level else (case_level,))]
+        rows.append(
+            {
+                "label": f"L{level}P1",
+                "level": level,
+                "degree": 1,
+                "dofs": int(2e5 / h**3),
+                "h_mm": {"fine": h, "fillet": f},
+                "grid_points_total": 100,
+                "time_s": {"total": 10.0 * (level + 1), "factorization": 1.0, "compliance": 1.0},
+                "peak_rss_mb": 1024.0,
+                "scalars": {"bending_stress.ring": _separable(h, f)},
+                "fillet_scalars": {
+                    f"{x:g}": {"bending_stress.ring": _separable(h, x)} for x in extra
+                }
+                if extras
+                else {},
+            }
+        )
     return rows
 
 
@@ -782,8 +907,9 @@ def test_root_stress_split_recovers_the_limit_of_separable_errors():
     # X = D_ext S_ext / v_D is the exact limit of a separable error (order 2 recovered)
     assert e["extrapolated"] == pytest.approx(A_ROOT, rel=1e-9)
     for r in rows:
-        assert e["rel_error"][r["label"]] == pytest.approx(r["scalars"]["bending_stress.ring"]
-                                                           / A_ROOT - 1.0, abs=1e-9)  # fmt: skip
+        assert e["rel_error"][r["label"]] == pytest.approx(
+            r["scalars"]["bending_stress.ring"] / A_ROOT - 1.0, abs=1e-9
+        )
     # levels 1 and 2 read their own sector on the submodel ladder: its U there
     for i in (1, 2):
         want = sp["driver"]["uncertainty"][i] + sp["submodel"]["uncertainty"][i - 1]
@@ -803,9 +929,14 @@ def test_a_run_with_other_levels_sizes_is_judged_as_a_point_of_the_driver_ladder
     pass with a U of zero. A run on another sector (P2 at level 0) keeps Fs |v - X|."""
     rows = _split_rows()
     h2, f_d = LEVELS[2].fine, 0.15
-    on_x = {**rows[1], "label": "L1P1F2", "flank_level": 2, "fillet_scalars": {},
-            "h_mm": {"fine": h2, "fillet": f_d},
-            "scalars": {"bending_stress.ring": _separable(h2, f_d)}}  # fmt: skip
+    on_x = {
+        **rows[1],
+        "label": "L1P1F2",
+        "flank_level": 2,
+        "fillet_scalars": {},
+        "h_mm": {"fine": h2, "fillet": f_d},
+        "scalars": {"bending_stress.ring": _separable(h2, f_d)},
+    }
     e = scalar_table([*rows, on_x], case_level=1)["bending_stress.ring"]
     sp = e["split"]
     v = on_x["scalars"]["bending_stress.ring"]
@@ -824,8 +955,13 @@ def test_a_run_with_other_levels_sizes_is_judged_as_a_point_of_the_driver_ladder
     assert e2["rel_error"]["L1P1F2"] == pytest.approx(0.0, abs=1e-12)
     assert e2["uncertainty"]["L1P1F2"] > u_sub > 0.0
     # another sector (a P2 run at level 0 reads level 0's, 0.2 mm): Fs |v - X| / |v|
-    p2 = {**rows[0], "label": "L0P2", "degree": 2, "fillet_scalars": {},
-          "scalars": {"bending_stress.ring": 0.99 * A_ROOT}}  # fmt: skip
+    p2 = {
+        **rows[0],
+        "label": "L0P2",
+        "degree": 2,
+        "fillet_scalars": {},
+        "scalars": {"bending_stress.ring": 0.99 * A_ROOT},
+    }
     e3 = scalar_table([*rows, p2], case_level=1)["bending_stress.ring"]
     assert e3["uncertainty"]["L0P2"] == pytest.approx(1.25 * 0.01 / 0.99)
 
@@ -851,10 +987,16 @@ def test_root_stress_without_the_submodel_readings_keeps_the_coupled_ladder():
 
 def test_report_prints_both_ladders(tmp_path):
     rows = _split_rows()
-    conv = {"case": "x", "match": {"gearset": "case1", "scene": "one_branch"},
-            "positions_note": "One position.", "ladder_degree": 1,
-            "labels": [r["label"] for r in rows], "runs": rows, "skipped": [],
-            "scalars": scalar_table(rows, case_level=1)}  # fmt: skip
+    conv = {
+        "case": "x",
+        "match": {"gearset": "case1", "scene": "one_branch"},
+        "positions_note": "One position.",
+        "ladder_degree": 1,
+        "labels": [r["label"] for r in rows],
+        "runs": rows,
+        "skipped": [],
+        "scalars": scalar_table(rows, case_level=1),
+    }
     conv["recommendation"] = recommend(rows, conv["scalars"])
     text = write_report(conv, tmp_path).read_text()
     assert "## Root stress: driver and submodel" in text
@@ -900,11 +1042,19 @@ def _ladder(values: dict[str, list[float]], fillets=(0.2, 0.15, 0.1), extra: dic
     scalars per level, read on submodels (numerics.root_stress = submodel)."""
     rows = []
     for i, (h, hf) in enumerate(zip((1.0, 0.7, 0.45), fillets, strict=True)):
-        rows.append({"label": f"L{i}P1", "level": i, "degree": 1, "dofs": int(2e5 / h**3),
-                     "h_mm": {"fine": h, "fillet": hf, "global_fillet": hf},
-                     "time_s": {"total": 10.0 * (i + 1)}, "peak_rss_mb": 1024.0,
-                     "numerics": {"root_stress": "submodel"},
-                     "scalars": {k: v[i] for k, v in values.items()}})  # fmt: skip
+        rows.append(
+            {
+                "label": f"L{i}P1",
+                "level": i,
+                "degree": 1,
+                "dofs": int(2e5 / h**3),
+                "h_mm": {"fine": h, "fillet": hf, "global_fillet": hf},
+                "time_s": {"total": 10.0 * (i + 1)},
+                "peak_rss_mb": 1024.0,
+                "numerics": {"root_stress": "submodel"},
+                "scalars": {k: v[i] for k, v in values.items()},
+            }
+        )
     return rows
 
 
@@ -969,8 +1119,13 @@ def test_a_p1_stress_takes_the_gci_of_order_one_and_a_submodel_stress_order_two(
     fillets get the GCI with the order capped at 1 (before 2, the cap of integrals); the
     P2 submodels' root stresses keep the cap 2."""
     f = [100.0 + 6.0 * h**3 for h in (1.0, 0.7, 0.45)]
-    rows = _ladder({"contact_stress_cycle.sun_pinion.sigma_H_MPa": f,
-                    "bending_stress_global.sun": f, "bending_stress_face_end.sun": f})  # fmt: skip
+    rows = _ladder(
+        {
+            "contact_stress_cycle.sun_pinion.sigma_H_MPa": f,
+            "bending_stress_global.sun": f,
+            "bending_stress_face_end.sun": f,
+        }
+    )
     table = scalar_table(rows)
     assert table["contact_stress_cycle.sun_pinion.sigma_H_MPa"]["gci_order"] == 1.0
     assert table["bending_stress_global.sun"]["gci_order"] == 1.0
@@ -999,8 +1154,10 @@ def test_zero_is_judged_within_a_unit():
 def test_two_runs_reading_the_same_sector_give_no_extrapolation():
     """Levels 3 and 4 read the same 0.08 mm sector: a root stress has two grids, not three;
     it is incomplete (and fails the verdict) instead of raising in richardson."""
-    rows = _ladder({"bending_stress.sun": [700.0, 705.0, 706.0], "My_pin": [39.0, 39.6, 39.8]},
-                   fillets=(0.1, 0.08, 0.08))  # fmt: skip
+    rows = _ladder(
+        {"bending_stress.sun": [700.0, 705.0, 706.0], "My_pin": [39.0, 39.6, 39.8]},
+        fillets=(0.1, 0.08, 0.08),
+    )
     table = scalar_table(rows)
     assert table["bending_stress.sun"]["status"] == "incomplete"
     verdict = {v["run"]: v for v in recommend(rows, table)["runs"]}
@@ -1012,8 +1169,9 @@ def test_a_two_level_study_assumes_the_formal_order_of_where_a_stress_is_read():
     the P2 submodels, 1 for the contact pressure of the P1 global model (before, 1 for
     every stress)."""
     sigma_h = "contact_stress_cycle.sun_pinion.sigma_H_MPa"
-    rows = _ladder({"bending_stress_face_end.sun": [700.0, 710.0, 0.0],
-                    sigma_h: [1500.0, 1480.0, 0.0]})[:2]  # fmt: skip
+    rows = _ladder(
+        {"bending_stress_face_end.sun": [700.0, 710.0, 0.0], sigma_h: [1500.0, 1480.0, 0.0]}
+    )[:2]
     table = scalar_table(rows)
     assert table["bending_stress_face_end.sun"]["gci_order"] == 2.0
     assert table[sigma_h]["gci_order"] == 1.0
@@ -1023,8 +1181,10 @@ def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     from postprocess.convergence import reproduction_text
     from postprocess.convergence_study import compare_runs
 
-    a = {"scalars": {"My_pin": 40.0, "Mz_pin": 3e-13, "ZS": None},
-         "fillet_scalars": {"0.15": {"bending_stress.sun": 700.0}}}  # fmt: skip
+    a = {
+        "scalars": {"My_pin": 40.0, "Mz_pin": 3e-13, "ZS": None},
+        "fillet_scalars": {"0.15": {"bending_stress.sun": 700.0}},
+    }
     same = compare_runs(a, a)
     assert same["scalars"] == same["identical"] == 4 and same["missing"] == []
     assert same["max_rel_diff"] is None and same["worst"] is None
@@ -1032,8 +1192,10 @@ def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     assert "every one of its 4 scalars the same to the bit" in reproduction_text(
         {"run": "L0P1", "date": "d", **same}
     )
-    b = {"scalars": {"My_pin": 40.0 * (1 + 3e-11), "Mz_pin": -1e-13, "ZR": 1.0},
-         "fillet_scalars": {"0.15": {"bending_stress.sun": 707.0}}}  # fmt: skip
+    b = {
+        "scalars": {"My_pin": 40.0 * (1 + 3e-11), "Mz_pin": -1e-13, "ZR": 1.0},
+        "fillet_scalars": {"0.15": {"bending_stress.sun": 707.0}},
+    }
     got = compare_runs(a, b)
     assert got["scalars"] == 3 and got["identical"] == 0  # ZS and ZR in one run only
     assert got["worst"] == "0.15 mm:bending_stress.sun"
@@ -1043,13 +1205,16 @@ def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     assert "0 of 3 scalars the same to the bit, the others within 1.0e-02" in text
     assert "2 scalar(s) in one run only" in text and "another mesh" not in text
     # a run on another mesh says so: its differences are not round-off
-    moved = reproduction_text({"run": "L0P1", "date": "d",
-                               **compare_runs({**a, "dofs": 100}, {**b, "dofs": 111})})  # fmt: skip
+    moved = reproduction_text(
+        {"run": "L0P1", "date": "d", **compare_runs({**a, "dofs": 100}, {**b, "dofs": 111})}
+    )
     assert "0 of 3 scalars the same to the bit (another mesh: 100 DOFs recorded, 111 now)" in moved
     # the targeted kinds apart: the moments within 3e-11, the stresses within 1 %
     assert got["targets"]["moment"]["key"] == "My_pin"
-    assert got["targets"]["stress"] == {"max_rel_diff": pytest.approx(0.01),
-                                        "key": "0.15 mm:bending_stress.sun"}  # fmt: skip
+    assert got["targets"]["stress"] == {
+        "max_rel_diff": pytest.approx(0.01),
+        "key": "0.15 mm:bending_stress.sun",
+    }
     assert "the targeted moments within 3.0e-11 (My_pin)" in text
     # every shared scalar the same, one in one run only: no "others within" to speak of
     more = {**a, "scalars": {**a["scalars"], "ZR": 1.0}}
@@ -1083,11 +1248,22 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     _stored_runs(folder, case, "1" * 16)
     runs = [read_json(folder / "runs" / f"{r['label']}.json") for r in ROWS[:3]]
     ladder = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
-    conv = {"case": "1-GB", "match": match_key(case), "labels": ["L0P1", "L1P1", "L2P1"],
-            "positions": 1, "code_hash": "1" * 16, "runs_code_hash": ["1" * 16],
-            "ladder": ladder, "runs": runs, "case_level": 1, "ladder_degree": 1,
-            "description": "normal bearing", "positions_note": "one position",
-            "skipped": [], "machine": {"cpus": 2}}  # fmt: skip
+    conv = {
+        "case": "1-GB",
+        "match": match_key(case),
+        "labels": ["L0P1", "L1P1", "L2P1"],
+        "positions": 1,
+        "code_hash": "1" * 16,
+        "runs_code_hash": ["1" * 16],
+        "ladder": ladder,
+        "runs": runs,
+        "case_level": 1,
+        "ladder_degree": 1,
+        "description": "normal bearing",
+        "positions_note": "one position",
+        "skipped": [],
+        "machine": {"cpus": 2},
+    }
     conv = reduce_study(conv)
     conv_mod.record(folder, conv, records)
     asked = []
@@ -1145,11 +1321,24 @@ def test_add_to_record_solves_an_off_ladder_run_and_the_record_stands_for_it(
     _stored_runs(folder, case, "1" * 16)
     runs = [read_json(folder / "runs" / f"{r['label']}.json") for r in ROWS[:3]]
     lad = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
-    conv = reduce_study({"case": "1-GB", "match": match_key(case), "labels": lad["runs"],
-                         "positions": 1, "code_hash": "1" * 16, "runs_code_hash": ["1" * 16],
-                         "ladder": lad, "runs": runs, "case_level": 1, "ladder_degree": 1,
-                         "description": "normal bearing", "positions_note": "one position",
-                         "skipped": [], "machine": {"cpus": 2}})  # fmt: skip
+    conv = reduce_study(
+        {
+            "case": "1-GB",
+            "match": match_key(case),
+            "labels": lad["runs"],
+            "positions": 1,
+            "code_hash": "1" * 16,
+            "runs_code_hash": ["1" * 16],
+            "ladder": lad,
+            "runs": runs,
+            "case_level": 1,
+            "ladder_degree": 1,
+            "description": "normal bearing",
+            "positions_note": "one position",
+            "skipped": [],
+            "machine": {"cpus": 2},
+        }
+    )
     conv_mod.record(folder, conv, records)
     path = records / "1-GB" / STUDY_FILE
     asked, outcome = [], {}
@@ -1186,10 +1375,15 @@ def test_add_to_record_solves_an_off_ladder_run_and_the_record_stands_for_it(
     assert main([*argv, "0:2"]) == 1
     assert "L0P2 failed" in capsys.readouterr().err and path.read_text() == before
     # refused: a ladder run, the same level as flank level, a level out of range
-    for bad, why in (("1:1", "is a ladder run"), ("1:1:1", "is a ladder run"),
-                     ("1:1:1:1", "is a ladder run"), ("1:1:9", "flank level"),
-                     ("1:1:2:7", "fillet level"), ("1-1", "LEVEL:DEGREE"),
-                     ("1:1:2:2:2", "LEVEL:DEGREE")):  # fmt: skip
+    for bad, why in (
+        ("1:1", "is a ladder run"),
+        ("1:1:1", "is a ladder run"),
+        ("1:1:1:1", "is a ladder run"),
+        ("1:1:9", "flank level"),
+        ("1:1:2:7", "fillet level"),
+        ("1-1", "LEVEL:DEGREE"),
+        ("1:1:2:2:2", "LEVEL:DEGREE"),
+    ):
         assert main([*argv, bad]) == 2
         assert why in capsys.readouterr().err
     assert len(asked) == 3

@@ -41,15 +41,29 @@ def test_next_is_the_next_level():
 
 
 def _row(name, m, s):
-    return {"variant": name, "dofs": 10, "wall_s": 60.0, "peak_rss_mb": 2048.0,
-            "moments": {"My_pin": m}, "surface": {"ring": s},
-            "tangent": {"ring": None}}  # fmt: skip
+    return {
+        "variant": name,
+        "dofs": 10,
+        "wall_s": 60.0,
+        "peak_rss_mb": 2048.0,
+        "moments": {"My_pin": m},
+        "surface": {"ring": s},
+        "tangent": {"ring": None},
+    }
 
 
 def test_report_gives_change_and_share_of_the_step():
-    data = {"case": "X", "level": 0, "roll": 0.0, "read_fillet_mm": 0.15,
-            "variants": [_row("base", 200.0, 700.0), _row("fillet", 201.0, 682.0),
-                         _row("next", 202.0, 680.0)]}  # fmt: skip
+    data = {
+        "case": "X",
+        "level": 0,
+        "roll": 0.0,
+        "read_fillet_mm": 0.15,
+        "variants": [
+            _row("base", 200.0, 700.0),
+            _row("fillet", 201.0, 682.0),
+            _row("next", 202.0, 680.0),
+        ],
+    }
     text = report(data)
     # fillet: +1 N m of the step's +2 (50 %), -18 MPa of -20 (90 %)
     assert "| fillet | 10 | 60 | 2.0 | 201 (+1, 50%) | 682 (-18, 90%) |" in text
@@ -58,8 +72,13 @@ def test_report_gives_change_and_share_of_the_step():
 
 
 def test_report_without_next_gives_no_share():
-    data = {"case": "X", "level": 0, "roll": 0.0, "read_fillet_mm": 0.15,
-            "variants": [_row("base", 200.0, 700.0), _row("grid", 199.0, 703.0)]}  # fmt: skip
+    data = {
+        "case": "X",
+        "level": 0,
+        "roll": 0.0,
+        "read_fillet_mm": 0.15,
+        "variants": [_row("base", 200.0, 700.0), _row("grid", 199.0, 703.0)],
+    }
     assert "| grid | 10 | 60 | 2.0 | 199 (-1) | 703 (+3) |" in report(data)
 
 
@@ -68,8 +87,9 @@ def test_report_without_next_gives_no_share():
     [({"level": 4}, "--level"), ({"level": -1}, "--level"), ({"variants": ["x"]}, "--variants")],
 )
 def test_bad_input_names_the_option(kw, field, tmp_path: Path):
-    args = SimpleNamespace(**{"case": "1-GB", "level": 0, "roll": 0.0,
-                              "variants": ["base"], "out": tmp_path, **kw})  # fmt: skip
+    args = SimpleNamespace(
+        **{"case": "1-GB", "level": 0, "roll": 0.0, "variants": ["base"], "out": tmp_path, **kw}
+    )
     with pytest.raises(InputError, match=field):
         run(args)
 
@@ -82,8 +102,15 @@ def test_a_variant_row_holds_the_paper_moments_and_the_read_stresses(monkeypatch
     def fake_solve(study, roll, comm, **kw):  # what solve_position returns, reduced
         seen.update(kw)
         bs = {"sun": 870.0, "tangent": {"sun": 820.0}, "locations": {"sun": {}}}
-        return {"dofs": 5, "Mx_SP": 1.0, "M_LOA_sun_SP": 2.0, "M_LOA_SP_SUN": 2.0,
-                "Mz_SP": 1e-13, "ZS": 0.1, "bending_stress_fillets": {"0.15": bs}}  # fmt: skip
+        return {
+            "dofs": 5,
+            "Mx_SP": 1.0,
+            "M_LOA_sun_SP": 2.0,
+            "M_LOA_SP_SUN": 2.0,
+            "Mz_SP": 1e-13,
+            "ZS": 0.1,
+            "bending_stress_fillets": {"0.15": bs},
+        }
 
     monkeypatch.setattr(ds, "solve_position", fake_solve)
     row = ds.solve_variant(None, "fillet", 0, 0.0, None)
@@ -99,6 +126,11 @@ def test_a_variant_row_holds_the_paper_moments_and_the_read_stresses(monkeypatch
 def test_a_variant_missing_a_value_prints_a_dash():
     gone = _row("tooth", 200.5, 700.0)
     gone["surface"] = {}
-    data = {"case": "X", "level": 0, "roll": 0.0, "read_fillet_mm": 0.15,
-            "variants": [_row("base", 200.0, 700.0), gone]}  # fmt: skip
+    data = {
+        "case": "X",
+        "level": 0,
+        "roll": 0.0,
+        "read_fillet_mm": 0.15,
+        "variants": [_row("base", 200.0, 700.0), gone],
+    }
     assert "| tooth | 10 | 60 | 2.0 | 200.5 (+0.5) | - |" in report(data)

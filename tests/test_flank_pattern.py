@@ -42,9 +42,12 @@ def synthetic_position(study, scene, loaded) -> dict:
         name = f"{zn.driver}-{zn.driven}"
         xs, ws, rows = [], [], []
         for i, (_k, _j, pts) in enumerate(zn.contact_lines):
-            rows.append({"rows": [sum(len(x) for x in xs), sum(len(x) for x in xs) + len(pts)],
-                         "spacing": float(np.linalg.norm(pts[1] - pts[0])) if len(pts) > 1
-                         else 0.5})  # fmt: skip
+            rows.append(
+                {
+                    "rows": [sum(len(x) for x in xs), sum(len(x) for x in xs) + len(pts)],
+                    "spacing": float(np.linalg.norm(pts[1] - pts[0])) if len(pts) > 1 else 0.5,
+                }
+            )
             xs.append(pts)
             ws.append(np.where(loaded(name, i, pts), W_LOAD, 0.0))
         x, w = np.vstack(xs), np.concatenate(ws)
@@ -62,9 +65,13 @@ def synthetic_position(study, scene, loaded) -> dict:
         "roll": scene.roll,
         "meshes": meshes,
         "grid_lines": grid_lines,
-        "pinions": {pinion: {"centre_mm": centre,
-                             "frame": [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]}},
-    }  # fmt: skip
+        "pinions": {
+            pinion: {
+                "centre_mm": centre,
+                "frame": [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]],
+            }
+        },
+    }
 
 
 @pytest.fixture(scope="module")
@@ -128,9 +135,11 @@ def test_pattern_is_where_the_load_is(case):
     study, scene, pos, line = case
     pats = mesh_flank_patterns(study, [pos])
     assert [(p.mesh, p.body) for p in pats] == [
-        ("sun-pinion", "pinion"), ("sun-pinion", "sun"), ("pinion-ring", "pinion"),
+        ("sun-pinion", "pinion"),
+        ("sun-pinion", "sun"),
+        ("pinion-ring", "pinion"),
         ("pinion-ring", "ring"),
-    ]  # fmt: skip
+    ]
     pair = study.gearset.pair("sun", "pinion")
     r1 = np.hypot(line[:, 0], line[:, 1])  # radius on the sun (at the origin)
     s = np.sqrt(r1**2 - pair.gear1.base_radius**2) - pair.gear1.base_radius * math.tan(

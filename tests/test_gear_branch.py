@@ -162,8 +162,7 @@ def test_torque_balance_and_ratio(model, request):
         assert off < 1e-12  # one plane-of-action normal per mesh: equal arms, round-off
         # frictionless involutes, carrier fixed: equal normal forces at both meshes (spin
         # balance with one plane-of-action normal per mesh) and lever arms r_b cos(beta_b)
-        assert ga["mesh_normal_force_R_N"] == pytest.approx(ga["mesh_normal_force_S_N"],
-                                                            rel=1e-9)  # fmt: skip
+        assert ga["mesh_normal_force_R_N"] == pytest.approx(ga["mesh_normal_force_S_N"], rel=1e-9)
         tol = 1e-9  # the axial force n_z sum F_k with sum F_k = T / (r_b cos beta_b): exact
     else:
         # 1-GA: the load sits on the line, the coast flanks stay open; the cells off the line

@@ -34,13 +34,16 @@ def test_square_centre_deflection_is_loves_closed_form():
     a, e_star = 0.7, 1.15e5
     H = influence_matrix(np.zeros((1, 2)), np.full((1, 2), a), e_star)
     p = 1.0 / (4 * a * a)
-    assert H[0, 0] == pytest.approx(p * 8 * a * math.log(1 + math.sqrt(2)) / (math.pi * e_star),
-                                    rel=1e-12)  # fmt: skip
+    assert H[0, 0] == pytest.approx(
+        p * 8 * a * math.log(1 + math.sqrt(2)) / (math.pi * e_star), rel=1e-12
+    )
     # far away a patch acts as a point force: w = F / (pi E* r)
     far = influence_matrix(
-        np.zeros((1, 2)), np.full((1, 2), a), e_star,
+        np.zeros((1, 2)),
+        np.full((1, 2), a),
+        e_star,
         observers=(np.array([[50.0, 0.0]]), np.full((1, 2), a)),
-    )  # fmt: skip
+    )
     assert far[0, 0] == pytest.approx(1 / (math.pi * e_star * 50.0), rel=1e-3)  # (a/r)^2 terms
 
 

@@ -45,8 +45,10 @@ def test_modification_table_parses_back_into_the_gear_set():
     text = lc.modification_toml(CASE1, slopes, {"pinion": 6.0})
     src = dict(CASE1.source)
     table = tomllib.loads(text)["gears"]
-    src["gears"] = {k: {**v, **({"modifications": table[k]["modifications"]} if k in table else {})}
-                    for k, v in src["gears"].items()}  # fmt: skip
+    src["gears"] = {
+        k: {**v, **({"modifications": table[k]["modifications"]} if k in table else {})}
+        for k, v in src["gears"].items()
+    }
     gs = parse_gearset(src, "case1 + table")
     assert gs.modifications["pinion"] == FlankModifications(lead_crown_um=6.0, lead_slope_um=-41.2)
     assert gs.modifications["sun"] == FlankModifications(lead_slope_um=7.0)
@@ -77,8 +79,7 @@ def _fake_evaluate(jac_true, r0, curvature=0.0):
         zs, zr = r0 + jac_true @ u + curvature * np.array([u[0] ** 2, u[1] * u[0]])
         calls.append((u, study.numerics.root_stress))
         row = {k: 0.0 for k in lc.MOMENT_KEYS} | {"ZS": float(zs), "ZR": float(zr)}
-        cyc = {"interior_p_max_MPa": 1.0, "edge_p_max_MPa": 2.0, "K_Hbeta": 1.5,
-               "sigma_H_MPa": 3.0}  # fmt: skip
+        cyc = {"interior_p_max_MPa": 1.0, "edge_p_max_MPa": 2.0, "K_Hbeta": 1.5, "sigma_H_MPa": 3.0}
         root = {"bending_stress": {"sun": 500.0}, "bending_stress_recovered": {"sun": 612.0}}
         return row | {"contact_stress_cycle": {"sun_pinion": cyc}} | root
 
@@ -92,8 +93,18 @@ def test_iteration_reaches_the_tolerance(monkeypatch, curvature):
     evaluate, calls = _fake_evaluate(jac_true, np.array([-3.63, 4.0]), curvature)
     monkeypatch.setattr(study_lc, "evaluate", evaluate)
     study = load_study_case("1-GB")
-    data = study_lc.correct(study, level=0, positions=1, tol=0.5, fd_step=10.0, max_step=100.0,
-                            max_solves=8, crowns=None, comm=None, say=lambda *_: None)  # fmt: skip
+    data = study_lc.correct(
+        study,
+        level=0,
+        positions=1,
+        tol=0.5,
+        fd_step=10.0,
+        max_step=100.0,
+        max_solves=8,
+        crowns=None,
+        comm=None,
+        say=lambda *_: None,
+    )
     assert data["converged"]
     after = np.array([data["after"]["ZS"], data["after"]["ZR"]])
     assert np.abs(after).max() <= 0.5
@@ -125,8 +136,10 @@ def test_iteration_reaches_the_tolerance(monkeypatch, curvature):
 def test_the_root_stress_row_is_the_reading_the_reports_quote():
     cyc = {"sun_pinion": {}}
     row = {k: 0.0 for k in lc.MOMENT_KEYS} | {"contact_stress_cycle": cyc}
-    full = row | {"bending_stress": {"sun": 500.0, "ring": 400.0},
-                  "bending_stress_recovered": {"sun": 612.0, "ring": 450.0}}  # fmt: skip
+    full = row | {
+        "bending_stress": {"sun": 500.0, "ring": 400.0},
+        "bending_stress_recovered": {"sun": 612.0, "ring": 450.0},
+    }
     got = lc.state_row(full)
     assert got["root_MPa"] == {"sun": 612.0, "ring": 450.0}
     assert got["root_reading"] == "surface, recovered"
@@ -143,16 +156,35 @@ def test_a_case_read_on_the_global_model_is_not_solved_again(monkeypatch):
     evaluate, calls = _fake_evaluate(jac_true, np.array([-3.63, 4.0]))
     monkeypatch.setattr(study_lc, "evaluate", evaluate)
     study = global_root_stress(load_study_case("1-GB"))
-    data = study_lc.correct(study, level=0, positions=1, tol=0.5, fd_step=10.0, max_step=100.0,
-                            max_solves=8, crowns=None, comm=None, say=lambda *_: None)  # fmt: skip
+    data = study_lc.correct(
+        study,
+        level=0,
+        positions=1,
+        tol=0.5,
+        fd_step=10.0,
+        max_step=100.0,
+        max_solves=8,
+        crowns=None,
+        comm=None,
+        say=lambda *_: None,
+    )
     assert data["converged"] and len(calls) == 4
     assert {c[1] for c in calls} == {"global"} and data["history"][-1]["kind"] == "Newton"
 
 
 def test_refuses_a_double_pinion_case():
     with pytest.raises(ValueError, match="single-pinion"):
-        study_lc.correct(load_study_case("2B-GB"), level=0, positions=1, tol=0.5, fd_step=10.0,
-                         max_step=100.0, max_solves=8, crowns=None, comm=None)  # fmt: skip
+        study_lc.correct(
+            load_study_case("2B-GB"),
+            level=0,
+            positions=1,
+            tol=0.5,
+            fd_step=10.0,
+            max_step=100.0,
+            max_solves=8,
+            crowns=None,
+            comm=None,
+        )
 
 
 @pytest.mark.slow
@@ -163,9 +195,18 @@ def test_fe_lead_correction_recentres_1gb_at_level_0():
     K_Hbeta 2.06 -> 1.42 and 2.33 -> 1.41. The root stress, not checked here, is read on the
     global model (studies/case_variants.py)."""
     study = global_root_stress(load_study_case("1-GB"))
-    data = study_lc.correct(study, level=0, positions=1, tol=0.5,
-                            fd_step=10.0, max_step=100.0, max_solves=8, crowns=None,
-                            comm=MPI.COMM_SELF, say=lambda *_: None)  # fmt: skip
+    data = study_lc.correct(
+        study,
+        level=0,
+        positions=1,
+        tol=0.5,
+        fd_step=10.0,
+        max_step=100.0,
+        max_solves=8,
+        crowns=None,
+        comm=MPI.COMM_SELF,
+        say=lambda *_: None,
+    )
     before, after = data["before"], data["after"]
     assert min(abs(before["ZS"]), abs(before["ZR"])) > 2.0  # a real correction is needed
     assert data["converged"] and abs(after["ZS"]) <= 0.5 and abs(after["ZR"]) <= 0.5

@@ -23,9 +23,13 @@ from solvers.verification import planetary_scene
 
 def _solve(kind: str, comm=MPI.COMM_WORLD, **solver):
     problem, _ = planetary_scene(
-        comm, torque=9.0e3, k_radial=1e6, h_min=0.1, degree=1,
+        comm,
+        torque=9.0e3,
+        k_radial=1e6,
+        h_min=0.1,
+        degree=1,
         body_options={"linear_solver": LinearSolver(kind, **solver)},
-    )  # fmt: skip
+    )
     res = problem.solve()
     rigid = np.array([res.rigid[k] for k in sorted(res.rigid)])
     return problem, np.asarray(res.forces), rigid
@@ -58,10 +62,16 @@ def test_blr_is_switched_on_in_mumps():
 
 def test_a_cg_that_does_not_converge_is_an_error():
     problem, _ = planetary_scene(
-        MPI.COMM_WORLD, torque=9.0e3, k_radial=1e6, h_min=0.1, degree=1,
-        body_options={"linear_solver": LinearSolver("cg-gamg", 1e-14),
-                      "petsc_options": {"ksp_max_it": 2}},
-    )  # fmt: skip
+        MPI.COMM_WORLD,
+        torque=9.0e3,
+        k_radial=1e6,
+        h_min=0.1,
+        degree=1,
+        body_options={
+            "linear_solver": LinearSolver("cg-gamg", 1e-14),
+            "petsc_options": {"ksp_max_it": 2},
+        },
+    )
     with pytest.raises(FactorizationError, match="did not converge"):
         problem.solve()
 
@@ -92,8 +102,7 @@ def _same_solution(f, q, f0, q0):
     assert np.abs(q - q0).max() <= 1e-10 * np.abs(q0).max()
 
 
-def test_out_of_core_factors_give_the_in_core_answer_and_are_removed(exact, tmp_path,
-                                                                      monkeypatch):  # fmt: skip
+def test_out_of_core_factors_give_the_in_core_answer_and_are_removed(exact, tmp_path, monkeypatch):
     _, f0, q0 = exact
     f, q = _ooc_solve(MPI.COMM_WORLD, tmp_path, monkeypatch)
     _same_solution(f, q, f0, q0)
@@ -146,8 +155,7 @@ def test_bench_refuses_an_iterative_solver_out_of_core(capsys, tmp_path):
 
 
 @pytest.mark.mpi
-def test_an_out_of_core_folder_one_rank_cannot_make_fails_every_rank(tmp_path_factory,
-                                                                     monkeypatch):  # fmt: skip
+def test_an_out_of_core_folder_one_rank_cannot_make_fails_every_rank(tmp_path_factory, monkeypatch):
     """Rank 1 alone is given a folder under a file: every rank raises the same error instead
     of rank 0 waiting in the factorization for a rank that stopped."""
     comm = MPI.COMM_WORLD
@@ -223,8 +231,17 @@ def test_cg_gamg_on_two_ranks_gives_the_exact_solution():
 def test_bench_reports_changes_above_the_noise_floor():
     from studies.bench_linear import _changes
 
-    ref = {"scalars": {"My_pin": 200.0, "Mx_pin": 10.0, "M_LOA_sun": 90.0, "M_LOA_ring": -80.0,
-                       "Mz_pin": 1e-9, "bending_stress.sun": 500.0, "label": "x"}}  # fmt: skip
+    ref = {
+        "scalars": {
+            "My_pin": 200.0,
+            "Mx_pin": 10.0,
+            "M_LOA_sun": 90.0,
+            "M_LOA_ring": -80.0,
+            "Mz_pin": 1e-9,
+            "bending_stress.sun": 500.0,
+            "label": "x",
+        }
+    }
     row = {"scalars": {**ref["scalars"], "My_pin": 202.0, "Mz_pin": 3e-9}}
     ch = _changes(row, ref)
     assert ch["My_pin"] == pytest.approx(0.01)
@@ -238,18 +255,38 @@ def test_bench_reports_a_double_pinion_case():
     by a single-pinion name list (the 2B-GA bench once stopped on an empty list)."""
     from studies.bench_linear import _changes, _md
 
-    ref = {"scalars": {"My_SP": 92.0, "Mx_RP": 96.0, "M_LOA_RP_ring": -162.0, "Mz_SP": 1e-13,
-                       "bending_stress.ring": 520.0}}  # fmt: skip
+    ref = {
+        "scalars": {
+            "My_SP": 92.0,
+            "Mx_RP": 96.0,
+            "M_LOA_RP_ring": -162.0,
+            "Mz_SP": 1e-13,
+            "bending_stress.ring": 520.0,
+        }
+    }
     row = {"scalars": {**ref["scalars"], "Mx_RP": 96.96, "bending_stress.ring": 520.52}}
     ch = _changes(row, ref)
     assert ch["Mx_RP"] == pytest.approx(0.01) and "Mz_SP" not in ch
     t = {"factorization": 1.0, "compliance": 1.0, "total": 2.0}
     runs = [
-        {"level": 1, "solver": "mumps", "tolerance": None, "dofs": 9, "time_s": t,
-         "peak_rss_mb": 1024.0},
-        {"level": 1, "solver": "mumps+ooc", "tolerance": None, "dofs": 9, "time_s": t,
-         "peak_rss_mb": 512.0, "change": ch},
-    ]  # fmt: skip
+        {
+            "level": 1,
+            "solver": "mumps",
+            "tolerance": None,
+            "dofs": 9,
+            "time_s": t,
+            "peak_rss_mb": 1024.0,
+        },
+        {
+            "level": 1,
+            "solver": "mumps+ooc",
+            "tolerance": None,
+            "dofs": 9,
+            "time_s": t,
+            "peak_rss_mb": 512.0,
+            "change": ch,
+        },
+    ]
     text = _md("2B-GA", runs)
     assert "| 1 | mumps+ooc | - | 9 | 1.0 | 1.0 | 2.0 | 0.50 | 1.0e-02 | 1.0e-02 |" in text
 

@@ -436,8 +436,9 @@ def test_a_mesh_does_not_depend_on_what_was_meshed_before():
     from solvers import simple_meshes as sm
 
     def roller_cells() -> int:
-        r = sm.roller(MPI.COMM_SELF, 20.0, 10.0, 20.0 / 3, h_min=1.0, h_max=4.0, grade=0.3,
-                      plateau=2.0)  # fmt: skip
+        r = sm.roller(
+            MPI.COMM_SELF, 20.0, 10.0, 20.0 / 3, h_min=1.0, h_max=4.0, grade=0.3, plateau=2.0
+        )
         return r.mesh.topology.index_map(3).size_local
 
     first = roller_cells()  # leaves gmsh initialized: the sessions below do not own it

@@ -129,8 +129,13 @@ def test_all_branches_planet_angles(all_scenes):
     assert max(abs(a - e) for a, e in zip(sorted(angles), (0, 120, 240), strict=True)) < step
 
 
-STUDY_SCENES = [("1-GB", "one_branch"), ("1-GA", "all_planets"), ("1-GA", "system"),
-                 ("2B-GA", "one_branch"), ("2B-GA", "all_planets")]  # fmt: skip
+STUDY_SCENES = [
+    ("1-GB", "one_branch"),
+    ("1-GA", "all_planets"),
+    ("1-GA", "system"),
+    ("2B-GA", "one_branch"),
+    ("2B-GA", "all_planets"),
+]
 
 
 @pytest.mark.parametrize("case, kind", STUDY_SCENES, ids=[f"{c}-{k}" for c, k in STUDY_SCENES])
@@ -152,8 +157,9 @@ def test_positions_of_a_study_share_the_body_meshes(case, kind):
         keys, fine_here = set(), {}
         for roll in roll_angles(study, n):
             sc = scenes.build_scene(kind, study.gearset, roll, fine_fillets=True)
-            keys.add(tuple(cache.key("body", body_params(g.body, 1, g.active_teeth))
-                           for g in sc.gears))  # fmt: skip
+            keys.add(
+                tuple(cache.key("body", body_params(g.body, 1, g.active_teeth)) for g in sc.gears)
+            )
             for zn in sc.zones:
                 for k, j, _ in zn.contact_lines:
                     fine_here.setdefault(zn.driver, set()).add((k, zn.driver_side))
@@ -175,8 +181,9 @@ def test_planets_in_phase_get_the_same_bodies_up_to_labels():
     planet and the union held both labels of a tooth for some: 5, 5 and 4 fine fillets.)"""
     from cases.study_case import load_study_case
 
-    sc = scenes.build_scene("all_planets", load_study_case("parker2000-3").gearset, 0.0,
-                            fine_fillets=True)  # fmt: skip
+    sc = scenes.build_scene(
+        "all_planets", load_study_case("parker2000-3").gearset, 0.0, fine_fillets=True
+    )
     planets = [sc.gear(n) for n in sc.pinion_names]
     assert len({len(g.body.fine_fillets) for g in planets}) == 1
     assert len({len(g.active_teeth) for g in planets}) == 1
@@ -184,9 +191,14 @@ def test_planets_in_phase_get_the_same_bodies_up_to_labels():
 
 @pytest.mark.parametrize(
     "kind, option, refined",
-    [("one_branch", None, True), ("all_planets", None, False), ("system", None, False),
-     ("one_branch", False, False), ("all_planets", True, True)],
-)  # fmt: skip
+    [
+        ("one_branch", None, True),
+        ("all_planets", None, False),
+        ("system", None, False),
+        ("one_branch", False, False),
+        ("all_planets", True, True),
+    ],
+)
 def test_scenes_refine_the_root_fillets_of_the_global_model(kind, option, refined):
     """One branch names the cycle's tension fillets; the all-planet and system scenes name
     none by default (every fillet at fillet_far: the root stress read on submodels only;

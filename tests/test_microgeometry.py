@@ -134,8 +134,12 @@ def test_modifications_add_up():
 
 
 def test_modifications_from_the_gear_set_file():
-    gs = _set({"pinion": {"lead_crown_um": 10.0, "tip_relief_um": 5, "tip_relief_diameter": 47.0},
-               "sun": {"lead_crown_um": 0.0}})  # fmt: skip
+    gs = _set(
+        {
+            "pinion": {"lead_crown_um": 10.0, "tip_relief_um": 5, "tip_relief_diameter": 47.0},
+            "sun": {"lead_crown_um": 0.0},
+        }
+    )
     assert set(gs.modifications) == {"pinion"}  # a table of zeros is no modification
     m = gs.modifications["pinion"]
     assert (m.lead_crown_um, m.tip_relief_um, m.tip_relief_diameter) == (10.0, 5.0, 47.0)
@@ -150,19 +154,31 @@ def test_modifications_from_the_gear_set_file():
         ({"crown_um": 5.0}, r"gears\.pinion\.modifications: unknown field 'crown_um'"),
         ({"lead_crown_um": -1.0}, r"gears\.pinion\.modifications\.lead_crown_um = -1\.0: must"),
         ({"lead_slope_um": "5"}, r"gears\.pinion\.modifications\.lead_slope_um = '5': must be"),
-        ({"lead_crown_um": 600.0},
-         r"gears\.pinion\.modifications\.lead_crown_um = 600\.0: must be a number in \[0, 500\]"),
-        ({"tip_relief_um": 5.0}, r"gears\.pinion\.modifications\.tip_relief_diameter = None: "
-         r"must be given \(mm\) with tip_relief_um = 5\.0"),
-        ({"end_relief_um": 5.0}, r"gears\.pinion\.modifications\.end_relief_length = None: "
-         r"must be given \(mm\) with end_relief_um = 5\.0"),
-        ({"tip_relief_um": 5.0, "tip_relief_diameter": 60.0},
-         r"gears\.pinion: pinion\.modifications\.tip_relief_diameter = 60\.0: must lie between"),
-        ({"end_relief_um": 5.0, "end_relief_length": 20.0},
-         r"gears\.pinion: pinion\.modifications\.end_relief_length = 20\.0: must be <= half "
-         r"the face width, 14\.5 mm"),
+        (
+            {"lead_crown_um": 600.0},
+            r"gears\.pinion\.modifications\.lead_crown_um = 600\.0: must be a number in \[0, 500\]",
+        ),
+        (
+            {"tip_relief_um": 5.0},
+            r"gears\.pinion\.modifications\.tip_relief_diameter = None: "
+            r"must be given \(mm\) with tip_relief_um = 5\.0",
+        ),
+        (
+            {"end_relief_um": 5.0},
+            r"gears\.pinion\.modifications\.end_relief_length = None: "
+            r"must be given \(mm\) with end_relief_um = 5\.0",
+        ),
+        (
+            {"tip_relief_um": 5.0, "tip_relief_diameter": 60.0},
+            r"gears\.pinion: pinion\.modifications\.tip_relief_diameter = 60\.0: must lie between",
+        ),
+        (
+            {"end_relief_um": 5.0, "end_relief_length": 20.0},
+            r"gears\.pinion: pinion\.modifications\.end_relief_length = 20\.0: must be <= half "
+            r"the face width, 14\.5 mm",
+        ),
     ],
-)  # fmt: skip
+)
 def test_bad_modifications_name_file_and_field(table, match):
     with pytest.raises(CaseError, match=r"^case1\.toml: " + match):
         _set({"pinion": table})

@@ -22,12 +22,19 @@ from solvers.elastic_body import Material
 from solvers.gear_train import build_gear_train
 from solvers.modulus_scaling import ScaledBody, ScaledSubmodel, modulus_scale
 from solvers.root_submodel import submodel_root_stress
-from studies.position import study_scene
+from studies.position import study_scene, train_inputs
 
 
 def _solve(scene, meshes, study, store):
-    model = build_gear_train(scene, meshes, study, degree=1, store=store,
-                             spacing=sizing.check_level(0).fine, penalty_factor=100.0)  # fmt: skip
+    model = build_gear_train(
+        scene,
+        meshes,
+        train_inputs(study),
+        degree=1,
+        store=store,
+        spacing=sizing.check_level(0).fine,
+        penalty_factor=100.0,
+    )
     res = model.problem.solve()
     return model, res, submodel_root_stress(model, res, 0, store)
 

@@ -122,11 +122,19 @@ def _two_cubes(load=-100.0) -> P.Deck:
     """The upper unit cube pressed on the lower one by ``load`` (N, z) on a rigid top face;
     the lower cube's bottom clamped."""
     lower, upper = _cube_body("lower"), _cube_body("upper", shift=1.0)
-    top = P.Coupling("top", "upper", "upper/top", (0.5, 0.5, 2.0), fixed=(1, 2, 4, 5, 6),
-                     load={3: load})  # fmt: skip
-    return P.Deck([lower, upper], 206000.0, 0.3, [top], [("lower", "lower/bottom")],
-                  [P.ContactPair("c", ("upper", ["upper/bottom"]), ("lower", ["lower/top"]))],
-                  penalty=1.0e6, preload=("top", 3, -1e-5))  # fmt: skip
+    top = P.Coupling(
+        "top", "upper", "upper/top", (0.5, 0.5, 2.0), fixed=(1, 2, 4, 5, 6), load={3: load}
+    )
+    return P.Deck(
+        [lower, upper],
+        206000.0,
+        0.3,
+        [top],
+        [("lower", "lower/bottom")],
+        [P.ContactPair("c", ("upper", ["upper/bottom"]), ("lower", ["lower/top"]))],
+        penalty=1.0e6,
+        preload=("top", 3, -1e-5),
+    )
 
 
 def test_contact_statistics_reader(tmp_path):
@@ -208,8 +216,13 @@ def test_ccx_read_back_balances_the_load(tmp_path):
     ccx's own CF total and the applied load agree (the read-back of the peer benchmark)."""
     deck = _two_cubes(-100.0)
     info = P.write_deck(tmp_path / "c.inp", deck)
-    run = subprocess.run(["ccx", "-i", "c"], cwd=tmp_path, capture_output=True, text=True,
-                         env={**os.environ, "OMP_NUM_THREADS": "1"})  # fmt: skip
+    run = subprocess.run(
+        ["ccx", "-i", "c"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "OMP_NUM_THREADS": "1"},
+    )
     assert run.returncode == 0, run.stdout[-2000:]
     u = P.read_dat_displacements(tmp_path / "c.dat")
     upper = deck.bodies[1]
@@ -246,10 +259,12 @@ def test_facet_sag_on_a_cylinder():
 def test_centroid_split_moves_ccx_forces_to_our_centroids():
     """The moment difference a centroid shift carries: (c_ours - c_ccx) x F_ccx, in N m."""
     ours = {"mesh_centroid_pinion_mm": {"a": [0.0, 0.0, 1.0], "b": [0.0, 2.0, 0.0]}}
-    ccx = {"meshes": {
-        "a": {"centroid_pinion_mm": [0.0, 0.0, 0.0], "force_pinion_N": [0.0, 1000.0, 0.0]},
-        "b": {"centroid_pinion_mm": [0.0, 0.0, 0.0], "force_pinion_N": [0.0, 0.0, 500.0]},
-    }}  # fmt: skip
+    ccx = {
+        "meshes": {
+            "a": {"centroid_pinion_mm": [0.0, 0.0, 0.0], "force_pinion_N": [0.0, 1000.0, 0.0]},
+            "b": {"centroid_pinion_mm": [0.0, 0.0, 0.0], "force_pinion_N": [0.0, 0.0, 500.0]},
+        }
+    }
     # a: dz = 1 mm under Fy = 1000 N -> Mx = -1 N m; b: dy = 2 mm under Fz = 500 N -> Mx = +1
     assert np.allclose(_centroid_split(ours, ccx), [0.0, 0.0])
     ccx["meshes"]["b"]["force_pinion_N"] = [0.0, 0.0, 0.0]
@@ -282,8 +297,9 @@ def test_ccx_root_stress_reads_a_field_as_our_own_routine_does():
     keyed: dict[str, dict[str, list[int]]] = {}
     for key, name, _, _ in RS.loaded_fillets(scene):
         keyed.setdefault(name, {})[key] = [0, 1]
-    ours_bs = {"locations": {k: {"teeth": t, "tooth": None} for v in keyed.values()
-                             for k, t in v.items()}}  # fmt: skip
+    ours_bs = {
+        "locations": {k: {"teeth": t, "tooth": None} for v in keyed.values() for k, t in v.items()}
+    }
     got = ccx_root_stress(scene, 0, deck, u, ours_bs)
     meshes = load_body_meshes(scene, 0, MPI.COMM_SELF)
     for name, keys in keyed.items():
@@ -294,9 +310,16 @@ def test_ccx_root_stress_reads_a_field_as_our_own_routine_does():
         R = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0, 0, 1.0]])
         fn = dolfinx.fem.Function(V)
         fn.x.array[:] = (u_scene(pl.apply(xb)) @ R.T).ravel()
-        body = SimpleNamespace(name=name, mesh=bm.bundle.mesh, facet_tags=bm.bundle.facet_tags,
-                               tags=bm.tags, comm=MPI.COMM_SELF, gdim=3, degree=1,
-                               material=Material(deck.E, deck.nu))  # fmt: skip
+        body = SimpleNamespace(
+            name=name,
+            mesh=bm.bundle.mesh,
+            facet_tags=bm.bundle.facet_tags,
+            tags=bm.tags,
+            comm=MPI.COMM_SELF,
+            gdim=3,
+            degree=1,
+            material=Material(deck.E, deck.nu),
+        )
         want = RS.body_root_stress(body, fn, scene.gear(name).gear, keys)
         for k in keys:
             assert want[k]["value"] > 1.0  # a field that stresses the fillets read

@@ -114,10 +114,18 @@ def test_three_planets_cancel_the_first_harmonic_of_the_net_sun_force(three_plan
 def test_the_case_section_names_the_sizes_solved():
     """A phasing case solved at its case file's sizes (another level's flanks and fillets,
     studies.phasing records them in its inputs) says so; a level's own sizes read as before."""
-    res = {"harmonics": [], "planets": 3, "planet_angles_deg": [0.0, 120.0, 240.0],
-           "mean_mesh_force_N": 1.0, "mean_te_um": 1.0, "mean_sun_torque_Nm": 1.0,
-           "sun_torque_spread_Nm": 0.0, "equilibrium_rel": 0.0, "mesh_force_ripple_rel": 0.0,
-           "mesh_stiffness_ripple_rel": 0.0}  # fmt: skip
+    res = {
+        "harmonics": [],
+        "planets": 3,
+        "planet_angles_deg": [0.0, 120.0, 240.0],
+        "mean_mesh_force_N": 1.0,
+        "mean_te_um": 1.0,
+        "mean_sun_torque_Nm": 1.0,
+        "sun_torque_spread_Nm": 0.0,
+        "equilibrium_rel": 0.0,
+        "mesh_force_ripple_rel": 0.0,
+        "mesh_stiffness_ripple_rel": 0.0,
+    }
     inp = {"description": "d", "positions": 12, "level": 1, "dofs": 10, "wall_s": 1.0, "zs": 21}
     varied = " ".join(pf.case_section("x", res, {**inp, "flank_level": 2, "fillet_level": 2}))
     assert "pitch, level 1 (level-2 flanks and fillets), 10 DOFs" in varied

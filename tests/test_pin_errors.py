@@ -43,9 +43,16 @@ def test_a_failed_row_stops_the_study_and_keeps_the_rows_before_it(monkeypatch, 
     """A solve that fails ends the study with exit 1 and one line naming the row; the rows
     solved before it stay in pin_errors.json (every rank agrees on the failure first,
     studies.ranks, so none is left waiting in the next solve)."""
-    pos = {"roll": 0.0, "K_gamma": 1.0, "torque_balance_rel": 0.0, "bending_stress": None,
-           "branches": [{"load_share": 1.0, "angle_deg": a, "My_pin": 1.0, "Mx_pin": 0.0}
-                        for a in (0.0, 120.0, 240.0)]}  # fmt: skip
+    pos = {
+        "roll": 0.0,
+        "K_gamma": 1.0,
+        "torque_balance_rel": 0.0,
+        "bending_stress": None,
+        "branches": [
+            {"load_share": 1.0, "angle_deg": a, "My_pin": 1.0, "Mx_pin": 0.0}
+            for a in (0.0, 120.0, 240.0)
+        ],
+    }
     calls = []
 
     def solve(*a, **k):
@@ -55,8 +62,9 @@ def test_a_failed_row_stops_the_study_and_keeps_the_rows_before_it(monkeypatch, 
         return pos
 
     monkeypatch.setattr(pin_errors, "solve_position", solve)
-    code = pin_errors.main(["1-GB", "--errors", "0", "10", "25", "--sun-stiffness", "0",
-                            "--out", str(tmp_path)])  # fmt: skip
+    code = pin_errors.main(
+        ["1-GB", "--errors", "0", "10", "25", "--sun-stiffness", "0", "--out", str(tmp_path)]
+    )
     err = capsys.readouterr().err
     assert code == 1 and len(calls) == 2
     assert "pin error 10 um" in err and "diverged" in err and "Traceback" not in err
@@ -65,12 +73,19 @@ def test_a_failed_row_stops_the_study_and_keeps_the_rows_before_it(monkeypatch, 
 
 
 ROWS = [
-    {"sun_radial_stiffness": 1e6, "error_um": e, "K_gamma": k, "load_shares": shares,
-     "root_stress": {"sun": s, "ring": 2 * s}, "root_stress_key": {"sun": f"sun_pinion{p}_side",
-                                                                   "ring": f"ring_pinion{p}_side"}}
-    for e, k, shares, s, p in [(0.0, 1.01, [0.98, 1.01, 1.01], 500.0, 2),
-                               (-25.0, 1.2, [1.2, 0.9, 0.9], 600.0, 1)]
-]  # fmt: skip
+    {
+        "sun_radial_stiffness": 1e6,
+        "error_um": e,
+        "K_gamma": k,
+        "load_shares": shares,
+        "root_stress": {"sun": s, "ring": 2 * s},
+        "root_stress_key": {"sun": f"sun_pinion{p}_side", "ring": f"ring_pinion{p}_side"},
+    }
+    for e, k, shares, s, p in [
+        (0.0, 1.01, [0.98, 1.01, 1.01], 500.0, 2),
+        (-25.0, 1.2, [1.2, 0.9, 0.9], 600.0, 1),
+    ]
+]
 
 
 def test_root_stress_ratios_are_against_the_zero_error_row_of_the_same_support():
@@ -90,8 +105,9 @@ def test_pin_error_table_names_the_planet_read():
 @pytest.fixture(scope="module")
 def supported(tmp_path_factory):
     out = tmp_path_factory.mktemp("pin_errors")
-    res = pin_errors.run("1-GB", [0.0, 25.0, -10.0, -25.0], out, 0, "tangential", [1.0e6],
-                         MPI.COMM_SELF)  # fmt: skip
+    res = pin_errors.run(
+        "1-GB", [0.0, 25.0, -10.0, -25.0], out, 0, "tangential", [1.0e6], MPI.COMM_SELF
+    )
     return res, out
 
 
@@ -151,8 +167,9 @@ def test_the_reading_follows_the_numbers():
     text = " ".join(_pin_error_reading(rows))
     assert "Pinion 1's share is 0.9800 at 0 um and 0.7000 at 50 um" in text
     assert "K_gamma 1.0100 to 1.1500" in text
-    four = [{"sun_radial_stiffness": 0.0, "error_um": 0.0, "K_gamma": 1.0,
-             "load_shares": [1.0] * 4}]  # fmt: skip
+    four = [
+        {"sun_radial_stiffness": 0.0, "error_um": 0.0, "K_gamma": 1.0, "load_shares": [1.0] * 4}
+    ]
     assert "with 4 planets" in " ".join(_pin_error_reading(four))
     assert "three mesh forces" in " ".join(
         _pin_error_reading([dict(four[0], load_shares=[1.0] * 3)])

@@ -18,11 +18,23 @@ from studies.provenance import PACKAGES, REPO_ROOT, code_hash, numeric_sources
 def test_the_solver_path_is_covered_and_the_reports_are_not():
     names = set(numeric_sources())
     # the physics a position solve runs through and the scalars a convergence run records
-    for name in ("solvers.gear_train", "solvers.root_submodel", "solvers.contact_grid",
-                 "meshing.gear_body", "meshing.submodel", "gears.involute",
-                 "gears.iso6336_root", "postprocess.train_results", "postprocess.mesh_stress",
-                 "postprocess.run_scalars", "studies.position", "studies.run",
-                 "cases.study_case", "cases/1-GB.toml", "cases/gearsets/case2.toml"):  # fmt: skip
+    for name in (
+        "solvers.gear_train",
+        "solvers.root_submodel",
+        "solvers.contact_grid",
+        "meshing.gear_body",
+        "meshing.submodel",
+        "gears.involute",
+        "gears.iso6336_root",
+        "postprocess.train_results",
+        "postprocess.mesh_stress",
+        "postprocess.run_scalars",
+        "studies.position",
+        "studies.run",
+        "cases.study_case",
+        "cases/1-GB.toml",
+        "cases/gearsets/case2.toml",
+    ):
         assert name in names, name
     # reports, and the reductions of a ladder of runs, applied again whenever a study is read
     # (postprocess.convergence_study.reduce_study): a fix to them keeps the records' runs
@@ -48,8 +60,14 @@ def test_every_module_a_solve_imports_is_covered():
         f"for m in {provenance.COMPUTE_ROOTS!r}: __import__(m)\n"
         f"print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {PACKAGES!r})))"
     )
-    out = subprocess.run([sys.executable, "-c", code], cwd=REPO_ROOT, capture_output=True,
-                         text=True, check=True, timeout=300).stdout  # fmt: skip
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=REPO_ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    ).stdout
     loaded = set(json.loads(out.strip().splitlines()[-1]))
     assert loaded and loaded <= set(numeric_sources()), loaded - set(numeric_sources())
 
@@ -107,8 +125,12 @@ def test_the_records_stamp_follows_the_clock(monkeypatch):
     is written, not when the first stamp was asked for."""
     import datetime as dt
 
-    times = iter([dt.datetime(2026, 11, 30, 1, 5, tzinfo=dt.UTC),
-                  dt.datetime(2026, 11, 30, 3, 40, tzinfo=dt.UTC)])  # fmt: skip
+    times = iter(
+        [
+            dt.datetime(2026, 11, 30, 1, 5, tzinfo=dt.UTC),
+            dt.datetime(2026, 11, 30, 3, 40, tzinfo=dt.UTC),
+        ]
+    )
 
     class Clock(dt.datetime):
         @classmethod

@@ -226,8 +226,11 @@ def test_report_states_the_disagreement():
     assert "One torque solved: whether the FE k_r is proportional to it is not tested" in text
     assert "not proportional" not in text
     # two torques with k_r in proportion (12 % off the closed form at both): a spread of 0
-    half = {**data["nominal"], "sun_torque_Nm": data["nominal"]["sun_torque_Nm"] / 2,
-            "k_r": {k: v / 2 for k, v in data["nominal"]["k_r"].items()}}  # fmt: skip
+    half = {
+        **data["nominal"],
+        "sun_torque_Nm": data["nominal"]["sun_torque_Nm"] / 2,
+        "k_r": {k: v / 2 for k, v in data["nominal"]["k_r"].items()},
+    }
     two = {**data, "torque_runs": [half, data["nominal"]]}
     assert "a spread of 0.0% over the torques" in rf.report(two)
     half["k_r"] = {k: v / 2 * 1.1 for k, v in data["nominal"]["k_r"].items()}

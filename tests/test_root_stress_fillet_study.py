@@ -4,9 +4,16 @@ from postprocess.fillet_study import extrapolate, fillet_table
 
 
 def _row(h, f):
-    return {"fillet_mm": h, "degree": 1, "dofs": 1000, "peak_rss_mb": 1024.0,
-            "time_s": {"total": 1.0, "meshes": 0.1, "factorization": 0.5},
-            "surface": {"sun": f}, "tangent": {"sun": f}, "cell_max": {"sun": f}}  # fmt: skip
+    return {
+        "fillet_mm": h,
+        "degree": 1,
+        "dofs": 1000,
+        "peak_rss_mb": 1024.0,
+        "time_s": {"total": 1.0, "meshes": 0.1, "factorization": 0.5},
+        "surface": {"sun": f},
+        "tangent": {"sun": f},
+        "cell_max": {"sun": f},
+    }
 
 
 def test_first_order_values_extrapolate_to_their_limit():

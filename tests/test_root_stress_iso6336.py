@@ -24,9 +24,17 @@ TORQUE = 459.57e3  # N mm on the sun per mesh (singh2007.md section 1)
 def spur(z, x=0.0, m=1.0):
     """Spur gear on the ISO 53 profile A rack (h_fP = 1.25 m, rho_fP = 0.38 m, h_a = m)."""
     return GearSpec(
-        "g", z, m, 20.0, 0.0, "R", 10.0, profile_shift=x, dedendum_coef=1.25,
+        "g",
+        z,
+        m,
+        20.0,
+        0.0,
+        "R",
+        10.0,
+        profile_shift=x,
+        dedendum_coef=1.25,
         hob_tip_radius_coef=0.38,
-    )  # fmt: skip
+    )
 
 
 @pytest.fixture(scope="module")
@@ -41,8 +49,15 @@ def case1():
 # based table, e.g. Pu Lianggui, "Mechanical Design", table 10-5; values read off ISO 6336-3
 # style charts, two to three significant digits). Tolerance 1 %: chart-reading precision
 # (the table's own steps, e.g. 2.62 -> 2.52 from z 25 -> 30, are 4 %).
-TEXTBOOK_TIP = {17: (2.97, 1.52), 20: (2.80, 1.55), 25: (2.62, 1.59), 30: (2.52, 1.625),
-                40: (2.40, 1.67), 50: (2.32, 1.70), 100: (2.18, 1.79)}  # fmt: skip
+TEXTBOOK_TIP = {
+    17: (2.97, 1.52),
+    20: (2.80, 1.55),
+    25: (2.62, 1.59),
+    30: (2.52, 1.625),
+    40: (2.40, 1.67),
+    50: (2.32, 1.70),
+    100: (2.18, 1.79),
+}
 
 
 @pytest.mark.parametrize("z", sorted(TEXTBOOK_TIP))
@@ -138,14 +153,20 @@ def test_nominal_stress_is_invariant_under_similarity(s, case1):
     linear in the torque: a check on the units and powers of every length in the formula."""
     ext, _ = case1
     big = GearPair(
-        replace(ext.gear1, normal_module=s * ext.gear1.normal_module,
-                face_width=s * ext.gear1.face_width,
-                thickness_allowance=s * ext.gear1.thickness_allowance),
-        replace(ext.gear2, normal_module=s * ext.gear2.normal_module,
-                face_width=s * ext.gear2.face_width,
-                thickness_allowance=s * ext.gear2.thickness_allowance),
+        replace(
+            ext.gear1,
+            normal_module=s * ext.gear1.normal_module,
+            face_width=s * ext.gear1.face_width,
+            thickness_allowance=s * ext.gear1.thickness_allowance,
+        ),
+        replace(
+            ext.gear2,
+            normal_module=s * ext.gear2.normal_module,
+            face_width=s * ext.gear2.face_width,
+            thickness_allowance=s * ext.gear2.thickness_allowance,
+        ),
         s * ext.centre_distance,
-    )  # fmt: skip
+    )
     for i in (1, 2):
         ref = nominal_root_stress(ext, i, TORQUE)["sigma_F0"]
         assert nominal_root_stress(big, i, TORQUE * s**3)["sigma_F0"] == pytest.approx(
@@ -192,9 +213,17 @@ def test_ring_by_hand(case1):
     """
     _, ring_mesh = case1
     r = nominal_root_stress(ring_mesh, 2, TORQUE * 26 / 35)
-    hand = {"z_n": 103.9013, "d_en": 166.3174, "s_Fn": 4.18628, "y_F": 1.90655,
-            "y_e": -0.40358, "h_Fe": 1.88651, "Y_F": 1.02007, "Y_S": 2.58791,
-            "sigma_F0": 15419.43 / (32.0 * 1.59) * 1.02007 * 2.58791 * 0.825}  # fmt: skip
+    hand = {
+        "z_n": 103.9013,
+        "d_en": 166.3174,
+        "s_Fn": 4.18628,
+        "y_F": 1.90655,
+        "y_e": -0.40358,
+        "h_Fe": 1.88651,
+        "Y_F": 1.02007,
+        "Y_S": 2.58791,
+        "sigma_F0": 15419.43 / (32.0 * 1.59) * 1.02007 * 2.58791 * 0.825,
+    }
     for k, v in hand.items():
         assert r[k] == pytest.approx(v, rel=1e-4), k
     assert math.degrees(r["alpha_en"]) == pytest.approx(21.0293, abs=1e-4)

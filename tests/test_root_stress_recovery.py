@@ -21,9 +21,11 @@ MAT = Material(210000.0, 0.3)
 
 def _box(n):
     return dolfinx.mesh.create_box(
-        MPI.COMM_SELF, [np.zeros(3), np.array([1.0, 1.0, 0.5])], [n, n, n // 2],
+        MPI.COMM_SELF,
+        [np.zeros(3), np.array([1.0, 1.0, 0.5])],
+        [n, n, n // 2],
         dolfinx.mesh.CellType.tetrahedron,
-    )  # fmt: skip
+    )
 
 
 def _stress(grad):
@@ -34,8 +36,13 @@ def _stress(grad):
 
 def _cubic(x):
     """A displacement (3, n) cubic in x: its stress grows towards the face z = 0.5."""
-    return np.stack([1e-3 * x[2] ** 3 + 2e-4 * x[0] * x[1], 5e-4 * x[0] ** 2 * x[2],
-                     -1e-3 * x[0] * x[2] ** 2 + 1e-4 * x[1] ** 3])  # fmt: skip
+    return np.stack(
+        [
+            1e-3 * x[2] ** 3 + 2e-4 * x[0] * x[1],
+            5e-4 * x[0] ** 2 * x[2],
+            -1e-3 * x[0] * x[2] ** 2 + 1e-4 * x[1] ** 3,
+        ]
+    )
 
 
 def _cubic_stress(p):
@@ -48,8 +55,13 @@ def _cubic_stress(p):
 
 
 def _quadratic(x):
-    return np.stack([1e-3 * x[2] ** 2 + 2e-4 * x[0] * x[1], 5e-4 * x[0] * x[2],
-                     -1e-3 * x[0] ** 2 + 1e-4 * x[1] * x[2]])  # fmt: skip
+    return np.stack(
+        [
+            1e-3 * x[2] ** 2 + 2e-4 * x[0] * x[1],
+            5e-4 * x[0] * x[2],
+            -1e-3 * x[0] ** 2 + 1e-4 * x[1] * x[2],
+        ]
+    )
 
 
 def _quadratic_stress(p):

@@ -14,17 +14,24 @@ def _pos(roll, sun, ring, tan, cell, set_keys=None, position=0):
     keys = {"sun": "sun", "ring": "ring"} if set_keys is None else set_keys
     names = list(keys)
     locs = {k: {"tooth": 3, "side": "pos", "z_mm": 1.5 * roll, "set_key": keys[k]} for k in names}
-    bs = {names[0]: sun, names[1]: ring, "tangent": dict(zip(names, tan, strict=True)),
-          "cell_max": dict(zip(names, cell, strict=True)), "locations": locs}  # fmt: skip
+    bs = {
+        names[0]: sun,
+        names[1]: ring,
+        "tangent": dict(zip(names, tan, strict=True)),
+        "cell_max": dict(zip(names, cell, strict=True)),
+        "locations": locs,
+    }
     return {"position": position, "roll": roll, "bending_stress": {**bs, "method": "x"}}
 
 
 def test_maximum_over_the_cycle_and_where():
     # positions 0, 2 and 3 of the cycle finished (1 failed): "position" is the cycle's index,
     # not the index among the finished ones
-    recs = [_pos(0.0, 500.0, None, (480.0, None), (400.0, None), position=0),
-            _pos(0.1, 520.0, 300.0, (470.0, 290.0), (410.0, 250.0), position=2),
-            _pos(0.2, 510.0, 310.0, (490.0, 280.0), (390.0, 260.0), position=3)]  # fmt: skip
+    recs = [
+        _pos(0.0, 500.0, None, (480.0, None), (400.0, None), position=0),
+        _pos(0.1, 520.0, 300.0, (470.0, 290.0), (410.0, 250.0), position=2),
+        _pos(0.2, 510.0, 310.0, (490.0, 280.0), (390.0, 260.0), position=3),
+    ]
     out = cycle_bending(recs)
     assert out["bending_stress"] == {"sun": 520.0, "ring": 310.0}  # not the mean
     assert out["bending_stress_tangent"] == {"sun": 490.0, "ring": 290.0}
@@ -47,8 +54,10 @@ def test_the_most_loaded_planet_is_read_and_stands_for_its_gear():
     loaded, solvers.root_submodel.most_loaded), the others None: the set's value is the
     largest over the positions of whichever planet was read, and names it."""
     keys = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun"}
-    recs = [_pos(0.0, None, 530.0, (None, 510.0), (None, 1), keys),
-            _pos(0.1, 545.0, None, (520.0, None), (1, None), keys)]  # fmt: skip
+    recs = [
+        _pos(0.0, None, 530.0, (None, 510.0), (None, 1), keys),
+        _pos(0.1, 545.0, None, (520.0, None), (1, None), keys),
+    ]
     out = cycle_bending(recs)
     assert out["bending_stress_set"] == {"sun": 545.0}
     assert out["bending_stress_tangent_set"] == {"sun": 520.0}
@@ -57,10 +66,20 @@ def test_the_most_loaded_planet_is_read_and_stands_for_its_gear():
 
 
 def test_most_loaded_reads_one_key_per_gear_set_key():
-    to_set = {"sun_pinion1_side": "sun", "sun_pinion2_side": "sun", "sun_pinion3_side": "sun",
-              "ring_pinion1_side": "ring", "ring_pinion2_side": "ring"}  # fmt: skip
-    load = {"sun_pinion1_side": 9.0, "sun_pinion2_side": 10.0, "sun_pinion3_side": 10.0,
-            "ring_pinion1_side": 7.0, "ring_pinion2_side": 6.0}  # fmt: skip
+    to_set = {
+        "sun_pinion1_side": "sun",
+        "sun_pinion2_side": "sun",
+        "sun_pinion3_side": "sun",
+        "ring_pinion1_side": "ring",
+        "ring_pinion2_side": "ring",
+    }
+    load = {
+        "sun_pinion1_side": 9.0,
+        "sun_pinion2_side": 10.0,
+        "sun_pinion3_side": 10.0,
+        "ring_pinion1_side": 7.0,
+        "ring_pinion2_side": 6.0,
+    }
     read = most_loaded(to_set, load)
     assert read == {"sun_pinion2_side", "ring_pinion1_side"}  # a tie: the first one
     assert read_for("sun_pinion3_side", to_set, read) == "sun_pinion2_side"
@@ -71,10 +90,13 @@ def test_most_loaded_reads_one_key_per_gear_set_key():
 def test_report_sections_print_fe_beside_iso():
     gs = load_study_case("1-GA").gearset
     iso = iso_root_stress_factors(gs)
-    s = {"level": 1, "degree": 1, **cycle_bending([_pos(0.0, 600.0, 450.0, (580.0, 440.0),
-                                                         (500.0, 300.0))]),
-         "bending_stress_iso6336": iso,
-         "bending_stress_iso6336_nominal": {k: v["sigma_F0"] for k, v in iso.items()}}  # fmt: skip
+    s = {
+        "level": 1,
+        "degree": 1,
+        **cycle_bending([_pos(0.0, 600.0, 450.0, (580.0, 440.0), (500.0, 300.0))]),
+        "bending_stress_iso6336": iso,
+        "bending_stress_iso6336_nominal": {k: v["sigma_F0"] for k, v in iso.items()},
+    }
     text = "\n".join(root_section({"1-GA": s}, ("sun", "ring"), ["1-GA"]))
     sun = iso["sun"]["sigma_F0"]
     assert f"| 1-GA | 1 / 1 | sun | 600 | 3, pos, +0.0 | - | 580 | 500 | {sun:.0f} (" in text
@@ -100,15 +122,27 @@ def test_recovered_values_are_carried_over_the_cycle():
     """The recovered surface and ISO-line values (solvers.surface_recovery) are maxima over
     the positions like the nodal ones; a position from before them adds nothing, and runs
     with none give None per key."""
-    recs = [_pos(0.0, 500.0, 300.0, (480.0, 290.0), (400.0, 250.0)),
-            _pos(0.1, 520.0, 310.0, (470.0, 280.0), (410.0, 260.0)),
-            _pos(0.2, 530.0, 305.0, (475.0, 285.0), (405.0, 255.0))]  # fmt: skip
+    recs = [
+        _pos(0.0, 500.0, 300.0, (480.0, 290.0), (400.0, 250.0)),
+        _pos(0.1, 520.0, 310.0, (470.0, 280.0), (410.0, 260.0)),
+        _pos(0.2, 530.0, 305.0, (475.0, 285.0), (405.0, 255.0)),
+    ]
     for r, (sun, ring) in zip(recs[:2], ((490.0, 295.0), (505.0, 290.0)), strict=True):
         locs = r["bending_stress"]["locations"]
-        locs["sun"]["recovered"] = {"value": sun, "tangent": sun - 20.0, "tooth": 4,
-                                    "side": "neg", "z_mm": 2.0 + r["roll"]}  # fmt: skip
-        locs["ring"]["recovered"] = {"value": ring, "tangent": None, "tooth": 1, "side": "pos",
-                                     "z_mm": -1.0}  # fmt: skip
+        locs["sun"]["recovered"] = {
+            "value": sun,
+            "tangent": sun - 20.0,
+            "tooth": 4,
+            "side": "neg",
+            "z_mm": 2.0 + r["roll"],
+        }
+        locs["ring"]["recovered"] = {
+            "value": ring,
+            "tangent": None,
+            "tooth": 1,
+            "side": "pos",
+            "z_mm": -1.0,
+        }
     out = cycle_bending(recs)
     assert out["bending_stress_recovered"] == {"sun": 505.0, "ring": 295.0}
     assert out["bending_stress_tangent_recovered"] == {"sun": 485.0, "ring": None}
@@ -125,8 +159,10 @@ def test_recovered_values_are_carried_over_the_cycle():
 def test_report_prints_the_recovered_reading_beside_the_nodal_one():
     gs = load_study_case("1-GA").gearset
     iso = iso_root_stress_factors(gs)
-    recs = [_pos(0.0, 600.0, 450.0, (580.0, 440.0), (500.0, 300.0)),
-            _pos(1.0, 590.0, 455.0, (585.0, 445.0), (500.0, 300.0))]  # fmt: skip
+    recs = [
+        _pos(0.0, 600.0, 450.0, (580.0, 440.0), (500.0, 300.0)),
+        _pos(1.0, 590.0, 455.0, (585.0, 445.0), (500.0, 300.0)),
+    ]
     for r, v in zip(recs, (588.0, 594.0), strict=True):
         r["bending_stress"]["locations"]["sun"]["recovered"] = {
             "value": v,
@@ -135,9 +171,14 @@ def test_report_prints_the_recovered_reading_beside_the_nodal_one():
             "side": "pos",
             "z_mm": 1.5 * r["roll"],
         }
-    s = {"level": 1, "degree": 1, **cycle_bending(recs), "bending_stress_iso6336": iso,
-         "bending_stress_iso6336_nominal": {k: v["sigma_F0"] for k, v in iso.items()},
-         "uncertainty": {"bending_stress_recovered.sun": 0.02}}  # fmt: skip
+    s = {
+        "level": 1,
+        "degree": 1,
+        **cycle_bending(recs),
+        "bending_stress_iso6336": iso,
+        "bending_stress_iso6336_nominal": {k: v["sigma_F0"] for k, v in iso.items()},
+        "uncertainty": {"bending_stress_recovered.sun": 0.02},
+    }
     text = "\n".join(root_section({"1-GA": s}, ("sun", "ring"), ["1-GA"]))
     # the sun's recovered maximum (position 1, Z = -1.5) with its ±, its ratio to ISO's
     # sigma_F0, and the ratios to the nodal maxima 600 (surface) and 585 (line): 594 / 600,
@@ -172,8 +213,10 @@ def test_a_value_kept_apart_beside_a_load_is_reported():
     """The largest fillet value within one element of a contact point force
     (solvers.root_stress near_load) is carried over the cycle and named in the report where
     it exceeds the reported maximum."""
-    recs = [_pos(0.0, 500.0, 300.0, (480.0, 290.0), (400.0, 250.0)),
-            _pos(0.1, 520.0, 310.0, (470.0, 280.0), (410.0, 260.0))]  # fmt: skip
+    recs = [
+        _pos(0.0, 500.0, 300.0, (480.0, 290.0), (400.0, 250.0)),
+        _pos(0.1, 520.0, 310.0, (470.0, 280.0), (410.0, 260.0)),
+    ]
     recs[0]["bending_stress"]["locations"]["sun"]["near_load"] = 900.0
     recs[1]["bending_stress"]["locations"]["sun"]["near_load"] = 100.0
     recs[1]["bending_stress"]["locations"]["ring"]["near_load"] = 200.0
@@ -209,8 +252,10 @@ def test_the_quoted_root_stress_is_one_reading_for_every_gear():
     maximum over the gears never drops a gear (the ring's 800 MPa here) unseen."""
     from postprocess.stress_tables import reported_root_stress
 
-    s = {"bending_stress": {"sun": 600.0, "ring": 800.0, "locations": {}},
-         "bending_stress_recovered": {"sun": 590.0, "ring": 780.0}}  # fmt: skip
+    s = {
+        "bending_stress": {"sun": 600.0, "ring": 800.0, "locations": {}},
+        "bending_stress_recovered": {"sun": 590.0, "ring": 780.0},
+    }
     assert reported_root_stress(s) == ("bending_stress_recovered", {"sun": 590.0, "ring": 780.0})
     s["bending_stress_recovered"]["ring"] = None
     assert reported_root_stress(s) == ("bending_stress", {"sun": 600.0, "ring": 800.0})

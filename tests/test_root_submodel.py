@@ -31,7 +31,7 @@ from solvers.root_submodel import (
     submodel_root_stress,
     tooth_run,
 )
-from studies.position import cycle_sector_teeth, roll_angles, study_scene
+from studies.position import cycle_sector_teeth, roll_angles, study_scene, train_inputs
 
 
 @pytest.fixture(scope="module")
@@ -61,9 +61,16 @@ def test_rigid_motion_passes_through(scene, order):
     bundle = load_body(sb, sizing.with_fillet(0, 0.45), comm)
     assert bundle.mesh.geometry.cmaps[0].degree == order
     tags = {n: t for n, (d, t) in bundle.names.items() if d == 2}
-    sub = SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags,
-                       SimpleNamespace(lam=1.2e5, mu=8e4), 2, cut_names("sun", False),
-                       solver="mumps")  # fmt: skip
+    sub = SubmodelBody(
+        "sun",
+        bundle.mesh,
+        bundle.facet_tags,
+        tags,
+        SimpleNamespace(lam=1.2e5, mu=8e4),
+        2,
+        cut_names("sun", False),
+        solver="mumps",
+    )
     ang = sector_turn(pg.gear, 32)
     got = sub.solve(gbody, u, (np.zeros((0, 3)), np.zeros((0, 3))), ang)
     c, s = np.cos(ang), np.sin(ang)
@@ -74,8 +81,15 @@ def test_rigid_motion_passes_through(scene, order):
     assert err < 1e-9 * np.abs(want).max(), err
     # CG from the rigid motion nearest to the cut values: here that is the answer, so CG
     # starts converged (a wrong fit, a wrong frame or a guess CG ignores costs iterations)
-    cg = SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags,
-                      SimpleNamespace(lam=1.2e5, mu=8e4), 2, cut_names("sun", False))  # fmt: skip
+    cg = SubmodelBody(
+        "sun",
+        bundle.mesh,
+        bundle.facet_tags,
+        tags,
+        SimpleNamespace(lam=1.2e5, mu=8e4),
+        2,
+        cut_names("sun", False),
+    )
     got = cg.solve(gbody, u, (np.zeros((0, 3)), np.zeros((0, 3))), ang)
     assert cg.iterations == 0
     err = np.abs(got.x.array.reshape(-1, 3)[: len(x)] - want).max()
@@ -86,8 +100,14 @@ def test_rigid_motion_passes_through(scene, order):
 def solved(scene):
     study = load_study_case("1-GA")
     meshes = load_body_meshes(scene, 0, MPI.COMM_WORLD)
-    model = build_gear_train(scene, meshes, study, degree=1,
-                             spacing=sizing.check_level(0).fine, penalty_factor=100.0)  # fmt: skip
+    model = build_gear_train(
+        scene,
+        meshes,
+        train_inputs(study),
+        degree=1,
+        spacing=sizing.check_level(0).fine,
+        penalty_factor=100.0,
+    )
     return model, model.problem.solve()
 
 
@@ -135,8 +155,17 @@ def test_cg_gamg_gives_the_lu_stress(solved, scene):
     canon = {"sun": [(t - start) % pg.gear.teeth for t in loaded_teeth(model)["sun"]]}
     got = {}
     for solver, guess in (("mumps", "zero"), ("cg-gamg", "zero"), ("cg-gamg", "rigid")):
-        sub = SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags, gb.material, 2,
-                           cut_names("sun", False), solver=solver, guess=guess)  # fmt: skip
+        sub = SubmodelBody(
+            "sun",
+            bundle.mesh,
+            bundle.facet_tags,
+            tags,
+            gb.material,
+            2,
+            cut_names("sun", False),
+            solver=solver,
+            guess=guess,
+        )
         u = sub.solve(gb, ug, loads, sector_turn(pg.gear, first))
         got[solver, guess] = body_root_stress(sub, u, pg.gear, canon)["sun"]
     lu = got["mumps", "zero"]  # CG (GAMG, SUBMODEL_GAMG_THRESHOLD) from either first guess
@@ -144,11 +173,27 @@ def test_cg_gamg_gives_the_lu_stress(solved, scene):
         for key in (("cg-gamg", "zero"), ("cg-gamg", "rigid")):
             assert got[key][q] == pytest.approx(lu[q], rel=5e-4)
     with pytest.raises(ValueError, match=r"submodel solver 'lu': must be one of"):
-        SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags, gb.material, 2,
-                     cut_names("sun", False), solver="lu")  # fmt: skip
+        SubmodelBody(
+            "sun",
+            bundle.mesh,
+            bundle.facet_tags,
+            tags,
+            gb.material,
+            2,
+            cut_names("sun", False),
+            solver="lu",
+        )
     with pytest.raises(ValueError, match=r"submodel guess 'global': must be one of"):
-        SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags, gb.material, 2,
-                     cut_names("sun", False), guess="global")  # fmt: skip
+        SubmodelBody(
+            "sun",
+            bundle.mesh,
+            bundle.facet_tags,
+            tags,
+            gb.material,
+            2,
+            cut_names("sun", False),
+            guess="global",
+        )
 
 
 def test_a_curved_sector_reads_the_straight_ones_stress(solved, scene):
@@ -177,8 +222,9 @@ def test_a_curved_sector_reads_the_straight_ones_stress(solved, scene):
         sb = submodel_body(pg.body, n, "pos", geometry_order=order)
         bundle = load_body(sb, sizing.with_fillet(1, 0.2), MPI.COMM_WORLD)
         tags = {nm: t for nm, (d, t) in bundle.names.items() if d == 2}
-        sub = SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags, gb.material, 2,
-                           cut_names("sun", False))  # fmt: skip
+        sub = SubmodelBody(
+            "sun", bundle.mesh, bundle.facet_tags, tags, gb.material, 2, cut_names("sun", False)
+        )
         u = sub.solve(gb, ug, loads, angle)
         got[order] = body_root_stress(sub, u, pg.gear, canon, load_points=loads[0] @ _turn(angle))
     for q in ("value", "tangent"):
@@ -235,13 +281,22 @@ def test_a_point_force_beside_the_fillet_is_not_read_as_root_stress(solved, scen
     gb = p.bodies["sun"]
     ug = gb.function(res.displacements["sun"])
     canon = {"sun": [(t - start) % z for t in loaded_teeth(model)["sun"]]}
-    sub = SubmodelBody("sun", bundle.mesh, bundle.facet_tags, tags, gb.material, 2,
-                       cut_names("sun", False), solver="mumps")  # fmt: skip
+    sub = SubmodelBody(
+        "sun",
+        bundle.mesh,
+        bundle.facet_tags,
+        tags,
+        gb.material,
+        2,
+        cut_names("sun", False),
+        solver="mumps",
+    )
     ang = sector_turn(pg.gear, first)
     c, s = np.cos(ang), np.sin(ang)
     Q = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    plain = body_root_stress(sub, sub.solve(gb, ug, (pts, frc), ang), pg.gear, canon,
-                             load_points=pts @ Q)["sun"]  # fmt: skip
+    plain = body_root_stress(
+        sub, sub.solve(gb, ug, (pts, frc), ang), pg.gear, canon, load_points=pts @ Q
+    )["sun"]
     # the top vertex (largest radius) of the tension fillet of the tooth read, at mid face
     t0, side = canon["sun"][0], plain["side"]
     tag = next(tg for t, sd, tg in _fillet_groups(sub, [t0]) if sd == side)
@@ -271,7 +326,7 @@ def test_sector_teeth_are_the_grid_teeth_of_the_model(solved, scene):
     """The grids laid without the FE (sector_teeth) name the teeth the solved model's grids
     name, per key (the same contact numerics, modifications and material)."""
     model, _ = solved
-    got = sector_teeth(scene, load_study_case("1-GA"), sizing.check_level(0).fine)
+    got = sector_teeth(scene, train_inputs(load_study_case("1-GA")), sizing.check_level(0).fine)
     assert got == {k: len(v) for k, v in loaded_teeth(model).items()}
     assert set(got) == {"sun", "pinion_sun_side", "pinion_ring_side", "ring"}
 
@@ -284,8 +339,10 @@ def test_a_sector_larger_than_half_the_gear_falls_back_to_the_loaded_teeth(solve
     the fallback must neither raise nor read a wrong run). Every key still reads a value."""
     model, res = solved
     body = {key: b for key, b, _, _ in loaded_fillets(scene)}
-    runs = {k: tooth_run(k, ts, scene.gear(body[k]).gear.teeth)[1]
-            for k, ts in loaded_teeth(model).items()}  # fmt: skip
+    runs = {
+        k: tooth_run(k, ts, scene.gear(body[k]).gear.teeth)[1]
+        for k, ts in loaded_teeth(model).items()
+    }
     pinion = scene.gear("pinion").gear
     sector = {"sun": runs["sun"] + 1, "pinion_sun_side": max_read_teeth(pinion) + 1}
     bs = submodel_root_stress(model, res, 0, sector=sector)
@@ -309,7 +366,7 @@ def test_cycle_sector_holds_every_position_of_the_cycle():
     rolls = roll_angles(study, 5)
     cyc = [cycle_sector_teeth(study, r, spacing) for r in rolls]
     assert all(c == cyc[0] for c in cyc)
-    here = [sector_teeth(study_scene(study, r), study, spacing) for r in rolls]
+    here = [sector_teeth(study_scene(study, r), train_inputs(study), spacing) for r in rolls]
     for key, n in cyc[0].items():
         counts = [h[key] for h in here]
         assert max(counts) <= n <= min(counts) + 1, (key, n, counts)

@@ -29,8 +29,9 @@ def test_a_level_given_is_its_own_sizes():
 
 
 def test_explicit_values_win_and_resolving_twice_changes_nothing():
-    run = RunSettings(level=1, flank_level=2, degree=2, grid_spacing=0.3, penalty_factor=10.0,
-                      positions=3).resolved(GB)  # fmt: skip
+    run = RunSettings(
+        level=1, flank_level=2, degree=2, grid_spacing=0.3, penalty_factor=10.0, positions=3
+    ).resolved(GB)
     assert run.variant == {"flank_level": 2} and run.label == "L1P2F2"
     assert (run.spacing, run.penalty_factor, run.positions) == (0.3, 10.0, 3)
     assert run.resolved(GB) is run

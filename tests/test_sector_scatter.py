@@ -26,9 +26,13 @@ from studies.uncertainty import RECORDS
 
 
 def _variant(name, fillet, sun, ring_tangent, order=1):
-    return {"variant": name, "geometry_order": order, "sizes": {"fillet": fillet},
-            "surface": {"sun": sun, "ring": 600.0}, "tangent": {"sun": sun - 50.0,
-            "ring": ring_tangent}}  # fmt: skip
+    return {
+        "variant": name,
+        "geometry_order": order,
+        "sizes": {"fillet": fillet},
+        "surface": {"sun": sun, "ring": 600.0},
+        "tangent": {"sun": sun - 50.0, "ring": ring_tangent},
+    }
 
 
 ROWS = [
@@ -56,9 +60,11 @@ def test_the_spread_is_taken_over_the_straight_variants_of_one_read_fillet():
 
 
 def test_the_floor_is_the_largest_spread_of_the_case_level():
-    entries = [{"level": 1, "spread": {"a": 0.01, "b": 0.03}},
-               {"level": 1, "spread": {"a": 0.02}},
-               {"level": 2, "spread": {"a": 0.5, "c": 0.5}}]  # fmt: skip
+    entries = [
+        {"level": 1, "spread": {"a": 0.01, "b": 0.03}},
+        {"level": 1, "spread": {"a": 0.02}},
+        {"level": 2, "spread": {"a": 0.5, "c": 0.5}},
+    ]
     assert scatter_floors(entries, 1) == {"a": 0.02, "b": 0.03}
     assert scatter_floors(entries, 2) == {"a": 0.5, "c": 0.5}
     assert scatter_floors([], 1) == {}
@@ -73,15 +79,22 @@ def _rows() -> list[dict]:
         h, f = LEVELS[level].fine, submodel_level(level).fillet
         drv = 800.0 * (1.0 - 0.02 * h * h)
         extra = (0.1, 0.08) if level == 1 else (0.15,)
-        rows.append({
-            "label": f"L{level}P1", "level": level, "degree": 1, "dofs": int(2e5 / h**3),
-            "h_mm": {"fine": h, "fillet": f}, "grid_points_total": 100,
-            "time_s": {"total": 10.0, "factorization": 1.0, "compliance": 1.0},
-            "peak_rss_mb": 1024.0,
-            "scalars": {"bending_stress.ring": drv * sub.get(f, 799.0) / 800.0},
-            "fillet_scalars": {f"{x:g}": {"bending_stress.ring": drv * sub[x] / 800.0}
-                               for x in extra},
-        })  # fmt: skip
+        rows.append(
+            {
+                "label": f"L{level}P1",
+                "level": level,
+                "degree": 1,
+                "dofs": int(2e5 / h**3),
+                "h_mm": {"fine": h, "fillet": f},
+                "grid_points_total": 100,
+                "time_s": {"total": 10.0, "factorization": 1.0, "compliance": 1.0},
+                "peak_rss_mb": 1024.0,
+                "scalars": {"bending_stress.ring": drv * sub.get(f, 799.0) / 800.0},
+                "fillet_scalars": {
+                    f"{x:g}": {"bending_stress.ring": drv * sub[x] / 800.0} for x in extra
+                },
+            }
+        )
     return rows
 
 
@@ -108,8 +121,13 @@ def test_a_scatter_above_the_ladder_raises_the_sector_u_and_one_below_changes_no
 
 def test_a_run_of_another_degree_on_the_same_sectors_takes_the_floor_too():
     rows, key = _rows(), "bending_stress.ring"
-    p2 = {**rows[0], "label": "L0P2", "degree": 2, "fillet_scalars": {},
-          "scalars": {key: rows[1]["scalars"][key]}}  # fmt: skip
+    p2 = {
+        **rows[0],
+        "label": "L0P2",
+        "degree": 2,
+        "fillet_scalars": {},
+        "scalars": {key: rows[1]["scalars"][key]},
+    }
     bare = scalar_table([*rows, p2], case_level=1)[key]["uncertainty"]["L0P2"]
     assert bare < 0.02  # the spread of the ladder's values with it
     floored = scalar_table([*rows, p2], case_level=1, floors={key: 0.05})[key]
@@ -137,9 +155,13 @@ def _setup(tmp_path, **key):
     reduce_records(records)
     study = load_study_case("1-GB")
     inputs = inputs_hash(without_variant(study))  # a diagnostic sets its sizes itself
-    sizes = {"case": "1-GB", "level": 1, "roll": 0.0,
-             "key": {"inputs": inputs, "code_hash": "abc", "level": 1, "roll": 0.0},
-             "variants": ROWS}  # fmt: skip
+    sizes = {
+        "case": "1-GB",
+        "level": 1,
+        "roll": 0.0,
+        "key": {"inputs": inputs, "code_hash": "abc", "level": 1, "roll": 0.0},
+        "variants": ROWS,
+    }
     sizes.update(key)
     (out / "1-GB").mkdir(parents=True)
     write_json(out / "1-GB" / "sector_sizes_L1.json", sizes)
@@ -185,10 +207,13 @@ def test_the_scatter_is_kept_with_the_record_and_raises_its_root_stress_u(tmp_pa
     assert wider > s and rec["scalars"]["bending_stress.sun"]["split"]["sector_floor"] == wider
 
 
-@pytest.mark.parametrize("change, words", [
-    ({"key": {"inputs": "other", "code_hash": "abc"}}, "other inputs"),
-    ({"variants": ROWS[:2]}, "more than one set of other sizes"),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        ({"key": {"inputs": "other", "code_hash": "abc"}}, "other inputs"),
+        ({"variants": ROWS[:2]}, "more than one set of other sizes"),
+    ],
+)
 def test_a_file_that_does_not_belong_to_the_record_is_refused(tmp_path, capsys, change, words):
     records, out = _setup(tmp_path, **change)
     rec = (records / "1-GB" / "convergence.json").read_text()
@@ -235,17 +260,25 @@ def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
     shutil.copytree(RECORDS / "1-GB", records / "1-GB")
     path = records / "1-GB" / "convergence.json"
     old = read_json(path)
-    entry = {"level": 1, "roll": 0.0, "fillet_mm": 0.1, "variants": ["1:0.1", "2:0.1"],
-             "geometry_order": 1, "code_hash": "abc",
-             "spread": {"bending_stress_recovered.ring": 0.2}}  # fmt: skip
+    entry = {
+        "level": 1,
+        "roll": 0.0,
+        "fillet_mm": 0.1,
+        "variants": ["1:0.1", "2:0.1"],
+        "geometry_order": 1,
+        "code_hash": "abc",
+        "spread": {"bending_stress_recovered.ring": 0.2},
+    }
     write_json(path, {**old, "sector_scatter": [entry]})
     new = {k: v for k, v in old.items() if k not in ("sector_scatter", "recorded")}
     assert carried_scatter(read_json(path), new) == [entry]
     # another case level, gear set or inputs of the case-level run: not the same sectors
     assert carried_scatter(read_json(path), {**new, "case_level": 2}) == []
     assert carried_scatter(read_json(path), {**new, "match": {"gearset": "x"}}) == []
-    other = [dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"})
-             if r["level"] == 1 else r for r in new["runs"]]  # fmt: skip
+    other = [
+        dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"}) if r["level"] == 1 else r
+        for r in new["runs"]
+    ]
     assert carried_scatter(read_json(path), {**new, "runs": other}) == []
     # recorded again: kept, and the record reduced with it (its report names it)
     study = tmp_path / "study"
@@ -323,8 +356,10 @@ def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path
     assert got["uncertainty"][key] == pytest.approx(floored, rel=1e-12)
     assert src["sector_scatter_from"] == str(records / "1-GB" / "convergence.json")
     # a record whose case-level run was solved from other inputs lends it nothing
-    rec["runs"] = [dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"})
-                   if r["level"] == 1 else r for r in rec["runs"]]  # fmt: skip
+    rec["runs"] = [
+        dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"}) if r["level"] == 1 else r
+        for r in rec["runs"]
+    ]
     write_json(records / "1-GB" / "convergence.json", rec)
     got = summary_uncertainty(load_study_case("1-GB"), 1, 1, results, records=records)
     assert got["uncertainty"][key] == pytest.approx(own, rel=1e-12)

@@ -26,8 +26,16 @@ def test_the_defaults_of_level_1():
     # 1.5 twice, level 1's and 3's other sizes at the middle fillet, and the fillet's ladder
     # on curved tets
     assert SUBMODEL_FILLET[2] == 0.15
-    assert default_variants(1) == ["2:0.15", "2:0.1", "2:0.0667", "1:0.1", "3:0.1",
-                                   "2:0.15:c", "2:0.1:c", "2:0.0667:c"]  # fmt: skip
+    assert default_variants(1) == [
+        "2:0.15",
+        "2:0.1",
+        "2:0.0667",
+        "1:0.1",
+        "3:0.1",
+        "2:0.15:c",
+        "2:0.1:c",
+        "2:0.0667:c",
+    ]
 
 
 @pytest.mark.parametrize("level", range(len(LEVELS)))
@@ -36,8 +44,10 @@ def test_every_default_is_a_valid_variant(level):
         variant_sizes(spec)
 
 
-@pytest.mark.parametrize("spec", ["2", "2:", "x:0.1", "9:0.1", "-1:0.1", "2:nan", "2:0.001",
-                                  "2:5", "2:0.1:x", "2:0.1:c:c"])  # fmt: skip
+@pytest.mark.parametrize(
+    "spec",
+    ["2", "2:", "x:0.1", "9:0.1", "-1:0.1", "2:nan", "2:0.001", "2:5", "2:0.1:x", "2:0.1:c:c"],
+)
 def test_a_bad_variant_is_named(spec):
     with pytest.raises(InputError, match="--variants"):
         variant_sizes(spec)
@@ -47,8 +57,9 @@ def test_a_bad_variant_is_named(spec):
     "kw, field", [({"level": 5}, "--level"), ({"variants": ["2:0.1", "q"]}, "--variants")]
 )
 def test_bad_input_names_the_option_before_anything_is_solved(kw, field, tmp_path: Path):
-    args = SimpleNamespace(**{"case": "1-GB", "level": 1, "roll": 0.0, "variants": None,
-                              "out": tmp_path, **kw})  # fmt: skip
+    args = SimpleNamespace(
+        **{"case": "1-GB", "level": 1, "roll": 0.0, "variants": None, "out": tmp_path, **kw}
+    )
     with pytest.raises(InputError, match=field):
         run(args)
     assert not any(tmp_path.iterdir())
@@ -56,16 +67,29 @@ def test_bad_input_names_the_option_before_anything_is_solved(kw, field, tmp_pat
 
 def _row(spec, sun, tangent, moment=200.0):
     fillet = float(spec.split(":")[1])
-    return {"variant": spec, "wall_s": 60.0, "peak_rss_mb": 2048.0,
-            "sizes": {"fillet": fillet}, "sector_dofs": {"sun": 1000},
-            "moments": {"My_pin": moment}, "surface": {"sun": sun},
-            "tangent": {"sun": tangent}}  # fmt: skip
+    return {
+        "variant": spec,
+        "wall_s": 60.0,
+        "peak_rss_mb": 2048.0,
+        "sizes": {"fillet": fillet},
+        "sector_dofs": {"sun": 1000},
+        "moments": {"My_pin": moment},
+        "surface": {"sun": sun},
+        "tangent": {"sun": tangent},
+    }
 
 
 def test_report_gives_changes_spread_at_one_fillet_and_the_driver_check():
-    data = {"case": "X", "level": 1, "roll": 0.0,
-            "variants": [_row("2:0.15", 800.0, 700.0), _row("2:0.1", 808.0, 693.0),
-                         _row("1:0.1", 792.0, 693.0, moment=200.5)]}  # fmt: skip
+    data = {
+        "case": "X",
+        "level": 1,
+        "roll": 0.0,
+        "variants": [
+            _row("2:0.15", 800.0, 700.0),
+            _row("2:0.1", 808.0, 693.0),
+            _row("1:0.1", 792.0, 693.0, moment=200.5),
+        ],
+    }
     text = report(data)
     assert "| 2:0.1 | 1000 | 60 | 2.0 |" in text  # the run, then a table per reading
     nodal = text.split("### Surface maximum, nodal (MPa)")[1].split("### ISO line, nodal")
@@ -103,8 +127,14 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
                 "ring": {"read_instead": "x"},
             },
         }
-        return {"dofs": 5, "Mx_SP": 1.0, "M_LOA_sun_SP": 2.0, "M_LOA_SP_SUN": 2.0,
-                "Mz_SP": 1e-13, "bending_stress_fillets": {"0.1": bs}}  # fmt: skip
+        return {
+            "dofs": 5,
+            "Mx_SP": 1.0,
+            "M_LOA_sun_SP": 2.0,
+            "M_LOA_SP_SUN": 2.0,
+            "Mz_SP": 1e-13,
+            "bending_stress_fillets": {"0.1": bs},
+        }
 
     monkeypatch.setattr(ss, "solve_position", fake_solve)
     row = ss.solve_variant(None, "3:0.1", 1, 0.0, None)
@@ -136,9 +166,14 @@ def test_recovered_values_get_columns_and_spreads_beside_the_nodal_ones():
     """Rows since 2026-11-30 carry the recovered values (solvers.surface_recovery): the report
     gives them columns and spreads of their own; a row of an older file, without them, is a
     dash in those columns and leaves the spread to the rows that have them."""
-    rows = [{**_row(f"{k}:0.1", 800.0 + k, 700.0), "surface_recovered": {"sun": v},
-             "tangent_recovered": {"sun": v - 20.0}}
-            for k, v in ((1, 780.0), (2, 790.0))]  # fmt: skip
+    rows = [
+        {
+            **_row(f"{k}:0.1", 800.0 + k, 700.0),
+            "surface_recovered": {"sun": v},
+            "tangent_recovered": {"sun": v - 20.0},
+        }
+        for k, v in ((1, 780.0), (2, 790.0))
+    ]
     rows.append(_row("3:0.1", 803.0, 700.0))
     text = report({"case": "X", "level": 1, "roll": 0.0, "variants": rows})
     assert "sun (surface_recovered)" in text and "sun (tangent_recovered)" in text

@@ -46,8 +46,9 @@ def test_summary_contract(study):
     # The summary is made of the position files this run wrote, in roll order: its records
     # and means are checked against the files on disk (an independent copy), so a summary of
     # stale, reordered or other positions fails here.
-    files = [json.loads((out / "1-GA" / "positions" / f"{k}.json").read_text())
-             for k in range(N_POS)]  # fmt: skip
+    files = [
+        json.loads((out / "1-GA" / "positions" / f"{k}.json").read_text()) for k in range(N_POS)
+    ]
     rolls = study_run.roll_angles(load_study_case("1-GA"), N_POS)
     assert [f["roll"] for f in files] == [p["roll"] for p in summary["positions"]] == rolls
     for key in ("Mx_pin", "My_pin", "Mz_pin", "ZS", "ZR", "M_LOA_sun", "M_LOA_ring"):
@@ -60,7 +61,11 @@ def test_summary_contract(study):
         assert summary["bending_stress_tangent"][key] == pytest.approx(tangent, rel=1e-12)
     assert set(summary["contact_stress"]) == {"sun_pinion", "pinion_ring"}
     assert set(summary["bending_stress_iso6336_nominal"]) == {
-        "sun", "pinion_sun_side", "pinion_ring_side", "ring"}  # fmt: skip
+        "sun",
+        "pinion_sun_side",
+        "pinion_ring_side",
+        "ring",
+    }
     assert summary["level"] == 0 and summary["dofs"] == files[0]["dofs"]
     # the zone model's clipped body correction: the largest over the positions
     clipped = max(f["timings"]["correction_clipped"] for f in files)
@@ -71,9 +76,16 @@ def test_summary_contract(study):
     assert STDERR.getvalue() == ""
     # displacement fields of the first position for ParaView, one VTX folder per body
     assert sorted(p.name for p in (out / "1-GA" / "fields").iterdir()) == [
-        "pinion.bp", "ring.bp", "sun.bp"]  # fmt: skip
-    for name in ("contact_pattern_sun-pinion.png", "contact_pattern_pinion-ring.png",
-                 "contact_patterns.png", "loaded_scene.png"):  # fmt: skip
+        "pinion.bp",
+        "ring.bp",
+        "sun.bp",
+    ]
+    for name in (
+        "contact_pattern_sun-pinion.png",
+        "contact_pattern_pinion-ring.png",
+        "contact_patterns.png",
+        "loaded_scene.png",
+    ):
         assert (out / "1-GA" / name).is_file()
 
 
@@ -89,8 +101,10 @@ def test_physics_of_the_rigid_bearing_case(study):
     gs = load_study_case("1-GA").gearset
     torque = n_mm(gs.torque_per_branch)  # on the sun; the pinion drives the ring with Zp / Zs
     pinion_torque = torque * gs.gears["pinion"].teeth / gs.gears["sun"].teeth
-    for mesh, (a, b), t in (("sun_pinion", ("sun", "pinion"), torque),
-                            ("pinion_ring", ("pinion", "ring"), pinion_torque)):  # fmt: skip
+    for mesh, (a, b), t in (
+        ("sun_pinion", ("sun", "pinion"), torque),
+        ("pinion_ring", ("pinion", "ring"), pinion_torque),
+    ):
         iso = iso6336_pitch_contact_stress(gs.pair(a, b), t, z_beta=False)["sigma_H0"]
         assert 0.9 < s["contact_stress_mean_loaded"][mesh] / iso < 1.3, mesh
     # Rigid bearing: a nearly centred pattern (singh2007 section 7), |Z| < 1/10 face width.
@@ -212,8 +226,9 @@ def test_global_root_stress_on_coarse_fillets_is_refused_before_any_solve(
     edited.write_text(text.replace("[numerics]", '[numerics]\nroot_stress = "global"', 1))
     calls = []
     monkeypatch.setattr(study_run, "solve_position", lambda *a, **k: calls.append(a))
-    code = study_run.main([str(edited), "--scene", "system", "--level", "0",
-                           "--out", str(tmp_path / "results")])  # fmt: skip
+    code = study_run.main(
+        [str(edited), "--scene", "system", "--level", "0", "--out", str(tmp_path / "results")]
+    )
     err = capsys.readouterr().err
     assert code == 2 and calls == []
     assert "numerics.root_stress = 'global'" in err and "'submodel'" in err

@@ -20,8 +20,16 @@ def _tube(load=None):
     rigid ring on a free reference point at the centre (optionally loaded)."""
     mb = sm.hollow_cylinder(MPI.COMM_WORLD, 20.0, 8.0, 20.0, 4.0)
     ring = RigidCoupling("bore", "bore", (0.0, 0.0, 0.0), (0.0,) * 6, load=load)
-    return ElasticBody("tube", mb.mesh, mb.facet_tags, mb.tags, STEEL, 1,
-                       couplings=[ring], dirichlet=[Dirichlet("outer")])  # fmt: skip
+    return ElasticBody(
+        "tube",
+        mb.mesh,
+        mb.facet_tags,
+        mb.tags,
+        STEEL,
+        1,
+        couplings=[ring],
+        dirichlet=[Dirichlet("outer")],
+    )
 
 
 def test_condensed_stiffness_matches_a_direct_solve():

@@ -46,8 +46,9 @@ def _tensors(values):
     return t
 
 
-@pytest.mark.parametrize("name, tooth, side", [("sun", 3, "neg"), ("ring", 5, "pos"),
-                                               ("pinion", 0, "pos")])  # fmt: skip
+@pytest.mark.parametrize(
+    "name, tooth, side", [("sun", 3, "neg"), ("ring", 5, "pos"), ("pinion", 0, "pos")]
+)
 def test_fillet_coordinates_are_the_arc_length_on_the_generated_fillet(name, tooth, side):
     """Points of the generated fillet (sampled four times finer than the module's curve),
     turned to another tooth and side and screwed along the helix to z, map to their own arc

@@ -176,8 +176,9 @@ def test_reuse_gives_the_same_numbers():
     for k in (*MOMENTS, "ZS", "ZR"):
         assert reused[2][k] == pytest.approx(fresh[k], rel=1e-8, abs=1e-10), k
     for k in reused[2]["bending_stress"]["locations"]:
-        assert reused[2]["bending_stress"][k] == pytest.approx(fresh["bending_stress"][k],
-                                                               rel=1e-8), k  # fmt: skip
+        assert reused[2]["bending_stress"][k] == pytest.approx(
+            fresh["bending_stress"][k], rel=1e-8
+        ), k
     assert reused[1]["My_pin"] != reused[0]["My_pin"]  # the positions differ: a real check
     assert reused[2]["My_pin"] != reused[1]["My_pin"]  # and the cases: GC is not GA again
 
@@ -200,8 +201,9 @@ def test_system_scene_parallel_equals_serial(monkeypatch):
     for k in (*MOMENTS, "ZS", "ZR", "K_gamma"):
         scale = 29.0 if k in ("ZS", "ZR") else abs(ser["My_pin"])
         assert par[k] == pytest.approx(ser[k], rel=1e-6, abs=1e-6 * scale), k
-    assert np.allclose(par["sun_centre_displacement_mm"], ser["sun_centre_displacement_mm"],
-                       rtol=1e-6, atol=1e-9)  # fmt: skip
+    assert np.allclose(
+        par["sun_centre_displacement_mm"], ser["sun_centre_displacement_mm"], rtol=1e-6, atol=1e-9
+    )
     pb, sb = par["bending_stress"], ser["bending_stress"]
     assert [k for k in pb["locations"] if pb[k] is not None] == [
         k for k in sb["locations"] if sb[k] is not None
@@ -226,6 +228,12 @@ def test_store_replaces_bodies_of_another_material_instead_of_adding_them():
         for body in ("sun", "pinion", "ring"):
             assert store.keep((body, material), maker((body, material))) == (body, material)
             assert len(store) <= 3
-    assert made == [("sun", "steel"), ("pinion", "steel"), ("ring", "steel"),
-                    ("sun", "10x"), ("pinion", "10x"), ("ring", "10x")]  # fmt: skip
+    assert made == [
+        ("sun", "steel"),
+        ("pinion", "steel"),
+        ("ring", "steel"),
+        ("sun", "10x"),
+        ("pinion", "10x"),
+        ("ring", "10x"),
+    ]
     assert store.evicted == 3 and store.reused == 3

@@ -252,16 +252,18 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     summary = json.loads(out.read_text())
     assert summary["run"] == "L0P1" and "flank_level" not in summary
     # its inputs say what ran: level 0's own sizes, not the case file's level 1 and variant
-    assert summary["inputs"]["study_case"]["model"] == {"scene": "one_branch", "level": 0,
-                                                        "positions": 5}  # fmt: skip
+    assert summary["inputs"]["study_case"]["model"] == {
+        "scene": "one_branch",
+        "level": 0,
+        "positions": 5,
+    }
     assert summary["uncertainty_source"]["run"] == "L0P1"
     assert len(stub.calls) == 2
     assert cli(tmp_path, "1-GA", "--positions", 1) == 0  # other sizes than position 0's
     assert len(stub.calls) == 3
     assert cli(tmp_path, "1-GA", "--positions", 1) == 0  # the same: reused
     assert len(stub.calls) == 3
-    said = ("L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined "
-            "fillets)")  # fmt: skip
+    said = "L1P1F2R2 (level 1 with level 2's flanks and contact grid and level 2's refined fillets)"
     assert said in capsys.readouterr().out
     from postprocess.paper_report import write_paper_report
 
@@ -278,8 +280,9 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     # recovered for every gear with a nodal maximum (else the nodal maxima are quoted)
     summary["bending_stress_recovered"] = {
         k: 480.0 if k == "sun" else 0.9 * v
-        for k, v in summary["bending_stress"].items() if k != "locations"
-    }  # fmt: skip
+        for k, v in summary["bending_stress"].items()
+        if k != "locations"
+    }
     assert max(summary["bending_stress_recovered"].values()) == 480.0  # the sun's is the max
     summary["uncertainty"]["bending_stress_recovered.sun"] = 0.05
     out.write_text(json.dumps(summary))
@@ -288,8 +291,16 @@ def test_the_case_sizes_go_with_its_level_and_a_level_given_is_its_own(stub, tmp
     # left in the results by an earlier make after it, said to be no summary's
     stale = tmp_path / "out" / "convergence" / "1-GB" / "convergence.json"
     stale.parent.mkdir(parents=True)
-    stale.write_text(json.dumps({"case": "1-GB", "labels": ["L0P1", "L1P1"], "positions": 1,
-                                 "recommendation": {"note": "stale verdict"}}))  # fmt: skip
+    stale.write_text(
+        json.dumps(
+            {
+                "case": "1-GB",
+                "labels": ["L0P1", "L1P1"],
+                "positions": 1,
+                "recommendation": {"note": "stale verdict"},
+            }
+        )
+    )
     text = write_paper_report(tmp_path / "out").read_text().split("## Speed against error")[1]
     record, local = text.split("stale verdict")[0].split("Convergence, [1-GB]")
     assert "Convergence (recorded), [1-GB]" in record and "; the ± of 1-GA" in record

@@ -13,14 +13,23 @@ from studies.files import ResultFileError, read_json
 
 
 def _row(name):
-    return {"variant": name, "wall_s": 60.0, "peak_rss_mb": 2048.0, "read_fillet_mm": 0.15,
-            "sizes": {"fillet": 0.1}, "sector_dofs": {"sun": 10}, "dofs": 10,
-            "moments": {"My_pin": 200.0}, "surface": {"sun": 800.0},
-            "tangent": {"sun": 700.0}}  # fmt: skip
+    return {
+        "variant": name,
+        "wall_s": 60.0,
+        "peak_rss_mb": 2048.0,
+        "read_fillet_mm": 0.15,
+        "sizes": {"fillet": 0.1},
+        "sector_dofs": {"sun": 10},
+        "dofs": 10,
+        "moments": {"My_pin": 200.0},
+        "surface": {"sun": 800.0},
+        "tangent": {"sun": 700.0},
+    }
 
 
-@pytest.mark.parametrize("module, level, names", [(ds, 0, ["base", "grid"]),
-                                                  (ss, 1, ["2:0.15", "2:0.1"])])  # fmt: skip
+@pytest.mark.parametrize(
+    "module, level, names", [(ds, 0, ["base", "grid"]), (ss, 1, ["2:0.15", "2:0.1"])]
+)
 def test_finished_variants_are_kept_only_for_the_same_inputs_and_code(
     module, level, names, monkeypatch, tmp_path
 ):
@@ -63,8 +72,10 @@ def test_each_position_keeps_its_own_file(monkeypatch, tmp_path):
         return _row(name)
 
     monkeypatch.setattr(ss, "solve_variant", fake_variant)
-    at = {r: SimpleNamespace(case="1-GB", level=1, roll=r, variants=["2:0.1"], out=tmp_path)
-          for r in (0.0, 0.0718078)}  # fmt: skip
+    at = {
+        r: SimpleNamespace(case="1-GB", level=1, roll=r, variants=["2:0.1"], out=tmp_path)
+        for r in (0.0, 0.0718078)
+    }
     first = ss.run(at[0.0])
     second = ss.run(at[0.0718078])
     assert first.name == "sector_sizes_L1.json"

@@ -52,8 +52,9 @@ def runs(tmp_path_factory):
     got = {}
     for model, name in cases.items():
         progress = Progress(out=io.StringIO(), err=STDERR)
-        summary = study_run.run_study(name, out / model, level=0, positions=1,
-                                      progress=progress, store=store)  # fmt: skip
+        summary = study_run.run_study(
+            name, out / model, level=0, positions=1, progress=progress, store=store
+        )
         pos = json.loads((out / model / "1-GA" / "positions" / "0.json").read_text())
         got[model] = (load_study_case(name), summary, pos, out / model / "1-GA")
     return got
@@ -77,8 +78,9 @@ def test_results_say_what_a_zone_grid_is(runs):
         sec = np.asarray(pts["station"])
         f_st = np.bincount(sec, F, minlength=n_st)
         assert np.allclose(st["force_N"], f_st, rtol=1e-12, atol=1e-9)
-        assert np.allclose(st["line_load_N_per_mm"], f_st / np.asarray(st["length_mm"]),
-                           rtol=1e-12, atol=1e-9)  # fmt: skip
+        assert np.allclose(
+            st["line_load_N_per_mm"], f_st / np.asarray(st["length_mm"]), rtol=1e-12, atol=1e-9
+        )
         assert sum(st["force_N"]) == pytest.approx(m["normal_force_N"], rel=1e-12)
         lines = pos["grid_lines"][name]
         assert set(st["line"]) == set(range(len(lines)))

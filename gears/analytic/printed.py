@@ -68,14 +68,30 @@ SINGH_TABLE9 = {
 # singh2007 Table 5 (N m, integers): per case the SP and RP rows.
 SINGH_TABLE5 = {
     "2-A": {
-        "Mx_SP": 0, "My_SP": 264, "M_SP": 264, "M_LOA_SP_SUN": 96, "M_LOA_SP_RP": -106,
-        "Mx_RP": 0, "My_RP": 244, "M_RP": 244, "M_LOA_RP_SP": 91, "M_LOA_RP_RING": -95,
+        "Mx_SP": 0,
+        "My_SP": 264,
+        "M_SP": 264,
+        "M_LOA_SP_SUN": 96,
+        "M_LOA_SP_RP": -106,
+        "Mx_RP": 0,
+        "My_RP": 244,
+        "M_RP": 244,
+        "M_LOA_RP_SP": 91,
+        "M_LOA_RP_RING": -95,
     },
     "2-B": {
-        "Mx_SP": 128, "My_SP": 99, "M_SP": 161, "M_LOA_SP_SUN": 155, "M_LOA_SP_RP": -155,
-        "Mx_RP": 104, "My_RP": 185, "M_RP": 212, "M_LOA_RP_SP": 166, "M_LOA_RP_RING": -168,
+        "Mx_SP": 128,
+        "My_SP": 99,
+        "M_SP": 161,
+        "M_LOA_SP_SUN": 155,
+        "M_LOA_SP_RP": -155,
+        "Mx_RP": 104,
+        "My_RP": 185,
+        "M_RP": 212,
+        "M_LOA_RP_SP": 166,
+        "M_LOA_RP_RING": -168,
     },
-}  # fmt: skip
+}
 # singh2007 Table 5 per-force rows of case 2-B: (Mx, My), N m.
 SINGH_TABLE5_PER_FORCE_2B = {
     "SP": {"FzSUN": (0, 131), "FzRP": (128, -32)},
@@ -93,15 +109,43 @@ SINGH_CASE2_WORST = {
 }
 # singh2007 Table 6 (FA R = 133 N m): one row per pressure angle (deg, N m).
 SINGH_TABLE6 = [
-    {"pressure_angle": 15, "worst_moment": 167, "single_moment": 68, "ratio": 2.44,
-     "worst_theta": 105, "equiv_theta": 30, "worst_phi": 75},
-    {"pressure_angle": 20, "worst_moment": 178, "single_moment": 90, "ratio": 1.97,
-     "worst_theta": 110, "equiv_theta": 40, "worst_phi": 70},
-    {"pressure_angle": 25, "worst_moment": 189, "single_moment": 112, "ratio": 1.69,
-     "worst_theta": 115, "equiv_theta": 50, "worst_phi": 65},
-    {"pressure_angle": 30, "worst_moment": 199, "single_moment": 132, "ratio": 1.50,
-     "worst_theta": 120, "equiv_theta": 60, "worst_phi": 60},
-]  # fmt: skip
+    {
+        "pressure_angle": 15,
+        "worst_moment": 167,
+        "single_moment": 68,
+        "ratio": 2.44,
+        "worst_theta": 105,
+        "equiv_theta": 30,
+        "worst_phi": 75,
+    },
+    {
+        "pressure_angle": 20,
+        "worst_moment": 178,
+        "single_moment": 90,
+        "ratio": 1.97,
+        "worst_theta": 110,
+        "equiv_theta": 40,
+        "worst_phi": 70,
+    },
+    {
+        "pressure_angle": 25,
+        "worst_moment": 189,
+        "single_moment": 112,
+        "ratio": 1.69,
+        "worst_theta": 115,
+        "equiv_theta": 50,
+        "worst_phi": 65,
+    },
+    {
+        "pressure_angle": 30,
+        "worst_moment": 199,
+        "single_moment": 132,
+        "ratio": 1.50,
+        "worst_theta": 120,
+        "equiv_theta": 60,
+        "worst_phi": 60,
+    },
+]
 
 # pust2016: printed radial stiffness example (N/m, "about") and Table 1 ((rad/s)^2, rad/s).
 PUST_EXAMPLE_KR = -13_000.0
@@ -111,4 +155,4 @@ PUST_TABLE1 = [
     {"k3": 1e4, "omega1_sq": -120.07, "omega2_sq": 2.000e6, "omega1": "10.96i", "omega2": 1414.21},
     {"k3": 1.5e4, "omega1_sq": 79.93, "omega2_sq": 2.000e6, "omega1": "8.94", "omega2": 1414.21},
     {"k3": 2e4, "omega1_sq": 279.93, "omega2_sq": 2.000e6, "omega1": "16.73", "omega2": 1414.21},
-]  # fmt: skip
+]

@@ -66,8 +66,13 @@ def _geometry(r: _Report, t: dict) -> None:
         r.compare("geometry case 1", key, g1[key], printed.SINGH_GEOMETRY_CASE1[key], res, extra)
     for key in ("alpha1", "alpha2", "beta1", "beta2"):
         r.compare("geometry case 1", key, g1[key], printed.SINGH_GEOMETRY_CASE1[key], 0.01)
-    r.compare("geometry case 1", "ZS, ZR offset (face width / 4)", g1["load_offset"],
-              printed.SINGH_TABLE8_OFFSET, 0.01)  # fmt: skip
+    r.compare(
+        "geometry case 1",
+        "ZS, ZR offset (face width / 4)",
+        g1["load_offset"],
+        printed.SINGH_TABLE8_OFFSET,
+        0.01,
+    )
     for key in ("R_SP_SUN", "R_SP_RP", "R_RP_SP", "R_RP_RING"):
         r.compare("geometry case 2", key, g2[key], printed.SINGH_GEOMETRY_CASE2[key], 0.01)
     for key in ("psi", "theta", "phi"):
@@ -85,8 +90,10 @@ def _geometry(r: _Report, t: dict) -> None:
 
 def _single(r: _Report, t: dict) -> None:
     r.add("## 2. Concentrated load, single pinion (singh2007 Table 3)", "")
-    r.add(f"Torque per mesh {t['geometry']['case1']['torque_per_mesh']:.2f} N m. Forces N, "
-          "moments N m.")  # fmt: skip
+    r.add(
+        f"Torque per mesh {t['geometry']['case1']['torque_per_mesh']:.2f} N m. Forces N, "
+        "moments N m."
+    )
     r.compare_header()
     s = t["single"]
     for key, paper in printed.SINGH_TABLE3.items():
@@ -135,12 +142,27 @@ def _double(r: _Report, t: dict) -> None:
         r.compare("Table 5 (case-1 SP)", f"2-A: {key}", d["2-A_SP_as_case1"][key], paper, 1.0)
     r.add("", "Ratios stated in the text:")
     r.compare_header()
-    r.compare("section 5 text", "M_LOA SP-SUN 2-B / 2-A", d["ratio_SP_SUN"],
-              printed.SINGH_RATIO_SP_SUN, 0.01)  # fmt: skip
-    r.compare("section 5 text", "M_LOA RP-RING 2-B / 2-A", d["ratio_RP_RING"],
-              printed.SINGH_RATIO_RP_RING, 0.01)  # fmt: skip
-    r.compare("section 5 text", "SP-RP net differential (N m)", d["SP_RP_differential"],
-              printed.SINGH_SP_RP_DIFFERENTIAL, 1.0)  # fmt: skip
+    r.compare(
+        "section 5 text",
+        "M_LOA SP-SUN 2-B / 2-A",
+        d["ratio_SP_SUN"],
+        printed.SINGH_RATIO_SP_SUN,
+        0.01,
+    )
+    r.compare(
+        "section 5 text",
+        "M_LOA RP-RING 2-B / 2-A",
+        d["ratio_RP_RING"],
+        printed.SINGH_RATIO_RP_RING,
+        0.01,
+    )
+    r.compare(
+        "section 5 text",
+        "SP-RP net differential (N m)",
+        d["SP_RP_differential"],
+        printed.SINGH_SP_RP_DIFFERENTIAL,
+        1.0,
+    )
     r.add("")
 
 
@@ -152,16 +174,24 @@ def _parametric(r: _Report, t: dict) -> None:
     r.compare_header()
     for mesh, paper in printed.SINGH_CASE2_WORST.items():
         m = p["case2"][mesh]
-        r.compare("section 6 text", f"{mesh}: worst / single", m["worst_ratio"], paper["ratio"],
-                  0.01)  # fmt: skip
-        r.compare("section 6 text", f"{mesh}: worst angle (deg)", m["worst_angle"],
-                  paper["angle"], 1.0)  # fmt: skip
+        r.compare(
+            "section 6 text", f"{mesh}: worst / single", m["worst_ratio"], paper["ratio"], 0.01
+        )
+        r.compare(
+            "section 6 text", f"{mesh}: worst angle (deg)", m["worst_angle"], paper["angle"], 1.0
+        )
     r.add("", "Table 6 with the paper's FA R = 133 N m (moments N m, angles deg):")
     r.compare_header("pressure angle: quantity")
     for row, paper in zip(t["table6"], printed.SINGH_TABLE6, strict=True):
         a = paper["pressure_angle"]
-        for key in ("worst_moment", "single_moment", "ratio", "worst_theta", "equiv_theta",
-                    "worst_phi"):  # fmt: skip
+        for key in (
+            "worst_moment",
+            "single_moment",
+            "ratio",
+            "worst_theta",
+            "equiv_theta",
+            "worst_phi",
+        ):
             res = 0.01 if key == "ratio" else 1.0
             r.compare("Table 6", f"{a:g} deg: {key}", row[key], paper[key], res)
     fa_r = p["FA_R"]
@@ -175,8 +205,13 @@ def _parametric(r: _Report, t: dict) -> None:
     )
     r.compare_header("pressure angle")
     for value, paper in zip(p["single_moment_My_case1"], printed.SINGH_TABLE6, strict=True):
-        r.compare("Table 6 (My case 1)", f"{paper['pressure_angle']:g} deg", value,
-                  paper["single_moment"], 1.0)  # fmt: skip
+        r.compare(
+            "Table 6 (My case 1)",
+            f"{paper['pressure_angle']:g} deg",
+            value,
+            paper["single_moment"],
+            1.0,
+        )
     r.add("")
 
 
@@ -185,10 +220,20 @@ def _pust(r: _Report, t: dict) -> None:
     st = p["stated"]
     r.add("## 6. Radial mesh stiffness and the floating sun (pust2016)", "")
     r.compare_header()
-    r.compare("pust2016 example", "k_r,ext (N/m), pitch-radius form", p["k_r_example"],
-              printed.PUST_EXAMPLE_KR, 1000.0)  # fmt: skip
-    r.compare("pust2016 example", "k_r,ext (N/m), base-radius form", p["k_r_example_base"],
-              printed.PUST_EXAMPLE_KR, 1000.0)  # fmt: skip
+    r.compare(
+        "pust2016 example",
+        "k_r,ext (N/m), pitch-radius form",
+        p["k_r_example"],
+        printed.PUST_EXAMPLE_KR,
+        1000.0,
+    )
+    r.compare(
+        "pust2016 example",
+        "k_r,ext (N/m), base-radius form",
+        p["k_r_example_base"],
+        printed.PUST_EXAMPLE_KR,
+        1000.0,
+    )
     r.add(
         "",
         '("about -13,000" is read as two significant figures, resolution 1000 N/m.)',
@@ -198,10 +243,12 @@ def _pust(r: _Report, t: dict) -> None:
     )
     r.compare_header("k3 (N/m): quantity")
     for row, paper in zip(p["table1"], printed.PUST_TABLE1, strict=True):
-        r.compare("pust2016 Table 1", f"{row['k3']:g}: W1^2", row["omega1_sq"],
-                  paper["omega1_sq"], 0.01)  # fmt: skip
-        r.compare("pust2016 Table 1", f"{row['k3']:g}: W2^2", row["omega2_sq"],
-                  paper["omega2_sq"], 1e3)  # fmt: skip
+        r.compare(
+            "pust2016 Table 1", f"{row['k3']:g}: W1^2", row["omega1_sq"], paper["omega1_sq"], 0.01
+        )
+        r.compare(
+            "pust2016 Table 1", f"{row['k3']:g}: W2^2", row["omega2_sq"], paper["omega2_sq"], 1e3
+        )
     ident = p["identified"]
     r.add(
         "",
@@ -212,11 +259,20 @@ def _pust(r: _Report, t: dict) -> None:
     )
     r.compare_header("k3 (N/m): quantity")
     for row, paper in zip(ident["table1_m3_identified"], printed.PUST_TABLE1, strict=True):
-        r.compare("pust2016 Table 1 (identified m3)", f"{row['k3']:g}: W1^2", row["omega1_sq"],
-                  paper["omega1_sq"], 0.01)  # fmt: skip
-        r.compare("pust2016 Table 1 (identified m3)", f"{row['k3']:g}: W1 = sqrt|W1^2|",
-                  math.sqrt(abs(row["omega1_sq"])),
-                  float(paper["omega1"].rstrip("i")), 0.01)  # fmt: skip
+        r.compare(
+            "pust2016 Table 1 (identified m3)",
+            f"{row['k3']:g}: W1^2",
+            row["omega1_sq"],
+            paper["omega1_sq"],
+            0.01,
+        )
+        r.compare(
+            "pust2016 Table 1 (identified m3)",
+            f"{row['k3']:g}: W1 = sqrt|W1^2|",
+            math.sqrt(abs(row["omega1_sq"])),
+            float(paper["omega1"].rstrip("i")),
+            0.01,
+        )
     r.add(
         "",
         "k_r alone cannot give the printed column: at the stated m3 the k_r each printed "

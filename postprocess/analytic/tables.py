@@ -239,14 +239,16 @@ def phasing_section(case1: PlanetaryInput, case2: PlanetaryInput) -> dict:
         "OH58_three_equal": _phasing_case(zs, phasing.equally_spaced_angles(3)),
         "OH58_four_opposed": _phasing_case(zs, oh58_four),
         "OH58_four_snapped": _phasing_case(zs, phasing.snap_to_assemblable(oh58_four, zs, zr)),
-        "OH58_assembly": {"N=3": phasing.assembly_number(zs, zr, 3),
-                          "N=4": phasing.assembly_number(zs, zr, 4)},
+        "OH58_assembly": {
+            "N=3": phasing.assembly_number(zs, zr, 3),
+            "N=4": phasing.assembly_number(zs, zr, 4),
+        },
         "case1_equal": _phasing_case(zs1, phasing.equally_spaced_angles(n1)),
         "case1_assemblable": _phasing_case(zs1, phasing.assemblable_angles(zs1, zr1, n1)),
         "case1_assembly_number": phasing.assembly_number(zs1, zr1, n1),
         "case2_equal": _phasing_case(zs2, phasing.equally_spaced_angles(n2)),
         "case2_assembly_number": phasing.assembly_number(zs2, zr2, n2, double_pinion=True),
-    }  # fmt: skip
+    }
 
 
 def build_tables(
