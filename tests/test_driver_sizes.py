@@ -99,7 +99,8 @@ def test_a_variant_row_holds_the_paper_moments_and_the_read_stresses(monkeypatch
 
     seen = {}
 
-    def fake_solve(study, roll, comm, **kw):  # what solve_position returns, reduced
+    def fake_solve(study, roll, comm, settings, *, extras, **kw):  # solve_position, reduced
+        seen.update(kw, level=settings.level, submodel_levels=extras.submodel_levels)
         seen.update(kw)
         bs = {"sun": 870.0, "tangent": {"sun": 820.0}, "locations": {"sun": {}}}
         return {

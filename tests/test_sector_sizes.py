@@ -116,7 +116,8 @@ def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
 
     seen = {}
 
-    def fake_solve(study, roll, comm, **kw):  # what solve_position returns, reduced
+    def fake_solve(study, roll, comm, settings, *, extras, **kw):  # solve_position, reduced
+        seen.update(kw, level=settings.level, submodel_levels=extras.submodel_levels)
         seen.update(kw, order=submodel.SUBMODEL_GEOMETRY_ORDER)
         bs = {
             "sun": 870.0,

@@ -26,6 +26,7 @@ from cases.study_case import load_study_case
 from studies import files
 from studies import run as study_run
 from studies.plausibility import CONTACT_STRESS_LIMIT_MPA, plausibility_warnings
+from studies.position import Position
 from studies.progress import LoopClock, Progress, bar, clock
 
 REPO = Path(__file__).resolve().parent.parent
@@ -101,17 +102,19 @@ class Stub:
         self.out: Path | None = None
         self.calls: list[dict] = []  # the study, level and other keywords of each call
 
-    def __call__(self, study, roll, comm, *, level=None, keep_fields=False, progress=None, **kw):
+    def __call__(self, study, roll, comm, settings, *, keep_fields=False, progress=None, **kw):
         k = len(self.rolls)
         self.rolls.append(roll)
-        self.calls.append({"study": study, "level": level, **kw})
+        level = settings.level
+        self.calls.append({"study": study, "level": level, **settings.variant, **kw})
         for stage in STAGES:
             if progress is not None:
                 progress(stage)
         if k in self.fail_calls:
             raise RuntimeError("active set did not converge after 50 iterations (stub)")
-        pos = fake_position(study, roll, self.load, level)
-        return (pos, self.write_fields) if keep_fields else pos
+        pos = Position(fake_position(study, roll, self.load, level))
+        pos.write_fields = self.write_fields if keep_fields else None
+        return pos
 
     def write_fields(self, folder: Path):
         # the position file is on disk before any field is written
@@ -652,7 +655,7 @@ STUCK = textwrap.dedent(
     import sys
     from studies import run
 
-    def stub(study, roll, comm, **kwargs):
+    def stub(study, roll, comm, *args, **kwargs):
         if comm.rank == 0:
             comm.barrier()  # a collective call rank 1 never joins (e.g. inside MUMPS)
         raise RuntimeError("PETSc error 76: error in external library (simulated)")
