@@ -44,7 +44,7 @@ from gears.analytic.planetary import (
     double_pinion_geometry,
 )
 from gears.spec import GearSpec
-from postprocess.convergence import convergence_links, uncertainty_note
+from postprocess.convergence_record import convergence_links, uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import OFFSET_NOTE, plus_minus
 from postprocess.run_scalars import level_text

@@ -37,22 +37,23 @@ extrapolated value.
 A run off the ladder (another degree, e.g. P2 at the coarsest level) is compared with the
 extrapolated value in the same way (:func:`off_ladder`).
 
-:func:`uncertainty_for` turns a convergence study into a summary's ``uncertainty`` entry
-(:mod:`postprocess.plus_minus` prints it beside a value). The scalars a run records are read
-by :mod:`postprocess.run_scalars`. This module and :mod:`postprocess.convergence_study` are
-reductions of stored runs, outside the source hash: a study is reduced again by today's code
-whenever it is read (:func:`postprocess.convergence_study.reduce_study`).
+:mod:`postprocess.convergence_record` reads a reduced study into a summary's ``uncertainty``
+entry (:mod:`postprocess.plus_minus` prints it beside a value); the factors of safety are
+defined there, with the record format. The scalars a run records are read by
+:mod:`postprocess.run_scalars`. This module and :mod:`postprocess.convergence_study` are
+reductions of stored runs, outside the source hash: a study is reduced when it is written
+(:func:`postprocess.convergence_study.reduce_study`), and ``python -m studies.convergence
+--reduce-records`` reduces the records again after a change to them.
 """
 
 from __future__ import annotations
 
 import math
-import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
-SAFETY = 1.25  # Roache's factor of safety for a three-grid study with the observed order
+from postprocess.convergence_record import SAFETY, SAFETY_TWO_GRID
+
 P_MIN = 0.5  # below: stagnant (see the module docstring)
 P_BOUNDS = (-10.0, 20.0)  # the observed order is searched in here
 SAME_RTOL = 1e-9  # three values within this (relative) are mesh-independent
@@ -218,7 +219,6 @@ def richardson(
     )
 
 
-SAFETY_TWO_GRID = 3.0  # Roache's factor of safety when the order is assumed, not observed
 
 
 def two_grid(
@@ -314,130 +314,3 @@ def off_ladder(
         "uncertainty_abs": unc,
         "uncertainty": None if abs(f) <= zero_scale else unc / abs(f),
     }
-
-
-def reproduction_text(entry: Mapping) -> str:
-    """A record's reproduction (:func:`postprocess.convergence_study.compare_runs`, with its
-    run, date and code) in words."""
-    n, same = entry.get("scalars", 0), entry.get("identical", 0)
-    if entry.get("error"):
-        how = f"failed ({entry['error']})"
-    elif same == n and not entry.get("missing"):
-        how = f"every one of its {n} scalars the same to the bit"
-    else:
-        how = f"{same} of {n} scalars the same to the bit"
-        d0, d1 = entry.get("dofs") or (None, None)
-        if d0 != d1:
-            how += f" (another mesh: {d0} DOFs recorded, {d1} now)"
-        if entry.get("max_rel_diff") is not None:
-            how += f", the others within {entry['max_rel_diff']:.1e} (largest: {entry['worst']})"
-        if entry.get("missing"):
-            how += f", {len(entry['missing'])} scalar(s) in one run only"
-        for kind, t in sorted((entry.get("targets") or {}).items()):
-            kinds = {"stress": "stresses"}.get(kind, f"{kind}s")
-            how += f"; the targeted {kinds} within {t['max_rel_diff']:.1e} ({t['key']})"
-    return (
-        f"its run {entry.get('run')} solved again by code {entry.get('code_hash')} "
-        f"({entry.get('date')}): {how}"
-    )
-
-
-# ------------------------------------------------------------------ summaries and reports
-def uncertainty_for(study: Mapping, label: str, source: str) -> dict:
-    """The ``uncertainty`` entries of a summary solved as the run ``label``
-    (:func:`postprocess.run_scalars.run_label`: ``L1P1``, ``L1P1F2R2``) from a convergence
-    ``study`` (a convergence.json): ``uncertainty`` {key: relative} for every FE scalar
-    (mesh-independent ones left out; None where the value is ~0), ``uncertainty_abs`` {key:
-    in the scalar's unit} and ``uncertainty_source``. No convergence run of that label:
-    ``uncertainty`` None and a note."""
-    src = {
-        "convergence_study": source,
-        "case": study.get("case"),
-        "run": label,
-        "positions": study.get("positions"),
-        "code_hash": study.get("code_hash"),
-    }
-    if label not in study.get("labels", []):
-        have = ", ".join(study.get("labels", [])) or "none"
-        src["note"] = (
-            f"the convergence study {source} has no run {label} (it has {have}): no uncertainty"
-        )
-        return {"uncertainty": None, "uncertainty_abs": None, "uncertainty_source": src}
-    rel, absolute = {}, {}
-    for key, s in study["scalars"].items():
-        if s["status"] == "mesh-independent" or label not in s.get("uncertainty", {}):
-            continue
-        rel[key] = s["uncertainty"][label]
-        absolute[key] = s["uncertainty_abs"][label]
-    two = any(s.get("status") == "two-grid" for s in study["scalars"].values())
-    src["method"] = "two-grid" if two else "three-grid"
-    how = (
-        f"Roache's two-grid GCI with Fs {SAFETY_TWO_GRID:g} and the formal order"
-        if two
-        else f"GCI with Fs {SAFETY}, or the spread of the levels where convergence is not monotone"
-    )
-    src["note"] = (
-        f"relative discretisation uncertainty of each scalar of this run ({how}), "
-        "from the study's position(s); a case sharing the gear set, scene and numerics uses "
-        "the same study"
-    )
-    return {"uncertainty": rel, "uncertainty_abs": absolute, "uncertainty_source": src}
-
-
-def uncertainty_note(summaries: Mapping[str, Mapping]) -> str:
-    """One line for a report: where its ± come from (the convergence study of each case),
-    and which cases have none."""
-    by_study: dict[str, list[str]] = {}
-    without = []
-    for name, s in summaries.items():
-        src = s.get("uncertainty_source") or {}
-        if s.get("uncertainty") and src.get("convergence_study"):
-            two = " two levels only" if src.get("method") == "two-grid" else ""
-            rec = src.get("recorded")
-            if rec:  # a study kept in the repository (studies.uncertainty.RECORDS)
-                commit = str(rec.get("git_revision"))[:10]
-                two += f", recorded {rec.get('date', '?')} on commit {commit}"
-            if src.get("code_changed"):
-                two += "; solved by other code than today's"
-                if src.get("reproduced"):
-                    two += f" ({reproduction_text(src['reproduced'])})"
-            label = f"{src['convergence_study']} ({src.get('run')}{two})"
-            by_study.setdefault(label, []).append(name)
-        else:
-            without.append(name)
-    parts = [f"{', '.join(names)} from {study}" for study, names in by_study.items()]
-    text = (
-        "± : discretisation uncertainty of the value at its mesh level (GCI with factor of "
-        "safety 1.25 from a Richardson extrapolation over mesh levels 0-2, or the spread of "
-        "the levels where they do not converge monotonically; where only levels 0-1 fit, "
-        "Roache's two-grid GCI with factor of safety 3 and the formal order; a root stress "
-        "read on a submodel: the sum of the driver's and the sector's U, each from its own "
-        "ladder; an offset's ± as written under its table). The study solves one mesh "
-        "position (roll 0): its relative U is carried to the case's means and cycle maxima; "
-        "a value with no ± has no U in the study (an input, or within the CG noise); "
-    )
-    text += "; ".join(parts) if parts else "no case has one"
-    if without and parts:
-        text += f"; none for {', '.join(without)} (no convergence study for its gear set, "
-        text += "scene and level: make convergence CASE=...)"
-    elif without:
-        text += " (make convergence CASE=... writes the study)"
-    return text + "."
-
-
-def convergence_links(summaries: Mapping[str, Mapping], report_dir: Path) -> list[str]:
-    """Markdown lines for a case report: a link to the report and the speed-against-error
-    chart of every convergence study its summaries take their uncertainty from (paths
-    relative to ``report_dir``)."""
-    studies = []
-    for s in summaries.values():
-        src = (s.get("uncertainty_source") or {}).get("convergence_study")
-        if s.get("uncertainty") and src and Path(src).parent not in studies:
-            studies.append(Path(src).parent)
-    lines = []
-    for folder in studies:
-        rel = Path(os.path.relpath(folder.resolve(), Path(report_dir).resolve())).as_posix()
-        lines += [f"- [{folder.name}: convergence study]({rel}/report.md)"]
-        if (folder / "speed_error.png").is_file():
-            lines += ["", f"![{folder.name} speed against error]({rel}/speed_error.png)", ""]
-    return lines

@@ -15,7 +15,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.ticker import FormatStrFormatter, FuncFormatter, NullFormatter, PercentFormatter
 
-from postprocess.convergence import NEAR_ZERO, SAFETY_TWO_GRID, reproduction_text
+from postprocess.convergence import NEAR_ZERO
+from postprocess.convergence_record import SAFETY_TWO_GRID, reproduction_text
 from postprocess.convergence_study import CG_NOISE, P_CAP
 from postprocess.run_scalars import VARIANT_WORDS, row_label, sizes_in_words, variant
 

@@ -1,5 +1,5 @@
 """The ± a report prints beside a value of a case summary, from the summary's
-``uncertainty`` (:func:`postprocess.convergence.uncertainty_for`: the relative uncertainty of
+``uncertainty`` (:func:`postprocess.convergence_record.uncertainty_for`: the relative uncertainty of
 each scalar in the convergence study of its gear set, scene and numerics).
 
 A moment or a stress takes the study's relative uncertainty times its own value: every case

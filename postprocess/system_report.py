@@ -19,7 +19,7 @@ import math
 import re
 from pathlib import Path
 
-from postprocess.convergence import uncertainty_note
+from postprocess.convergence_record import uncertainty_note
 from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import plus_minus
 from postprocess.run_scalars import level_text

@@ -61,7 +61,7 @@ from pathlib import Path
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case, without_variant
 from meshing import sizing
 from meshing.submodel import submodel_level
-from postprocess.convergence import reproduction_text
+from postprocess.convergence_record import missing_runs, reproduction_text
 from postprocess.convergence_report import CHART, speed_error_chart, write_report
 from postprocess.convergence_study import compare_runs, reduce_study
 from postprocess.run_scalars import VARIANT_KEYS, run_label
@@ -71,7 +71,7 @@ from studies.files import ResultFileError, read_json, write_json
 from studies.memory import mem_available_gb
 from studies.position_runs import print_row, run_child, solve_run
 from studies.provenance import code_hash, git_revision, utc_stamp
-from studies.uncertainty import RECORDS, STUDY_FILE, match_key, missing_runs, recorded
+from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded
 
 LADDER_DEGREE = 1
 POSITIONS_NOTE = {
@@ -315,14 +315,14 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
                 "scatter carried over (make sector-scatter keeps it again)"
             )
     rec = {
-        **conv,
+        **{k: v for k, v in conv.items() if k != "sector_scatter_from"},  # its own now
         "recorded": {
             "date": utc_stamp(),
             "git_revision": git_revision(),
         },
     }
     if kept:
-        return _write_record({**rec, "sector_scatter": kept}, dest)
+        return write_reduced({**rec, "sector_scatter": kept}, dest)
     write_json(dest / STUDY_FILE, rec)  # reduced, reported and charted in ``folder``
     for name in ("report.md", CHART):
         if (folder / name).is_file():
@@ -330,7 +330,7 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
     return dest / STUDY_FILE
 
 
-def _write_record(rec: dict, dest: Path) -> Path:
+def write_reduced(rec: dict, dest: Path) -> Path:
     """Reduce ``rec`` by today's code and write it, its chart and report to ``dest``."""
     rec = reduce_study(rec)
     write_json(dest / STUDY_FILE, rec)
@@ -338,6 +338,28 @@ def _write_record(rec: dict, dest: Path) -> Path:
         (dest / CHART).unlink(missing_ok=True)
     write_report(rec, dest)
     return dest / STUDY_FILE
+
+
+def with_recorded_scatter(conv: dict, records: Path = RECORDS) -> dict:
+    """``conv`` (a study of this machine, not yet reduced) with the sector scatter a record of
+    its match key keeps for the same sectors (:func:`postprocess.sector_scatter.carried_scatter`:
+    one match key, case level and case-level inputs). The summaries read a study as written
+    (:mod:`postprocess.convergence_record`) and this machine's study stands before the record:
+    without the carry its root stresses' ± would lack the floor the record's have."""
+    if conv.get("sector_scatter") or records is None:
+        return conv
+    for path in sorted(Path(records).glob(f"*/{STUDY_FILE}")):
+        try:
+            rec = read_json(path)
+        except ResultFileError:
+            continue  # a damaged record lends nothing; the ± lookup names it
+        kept = carried_scatter(rec, conv) if isinstance(rec, dict) else []
+        if kept:
+            print(
+                f"{conv['case']}: the sector scatter kept with {path} floors its root stresses' U"
+            )
+            return {**conv, "sector_scatter": kept, "sector_scatter_from": str(path)}
+    return conv
 
 
 def reduce_records(records: Path = RECORDS) -> list[Path]:
@@ -351,7 +373,7 @@ def reduce_records(records: Path = RECORDS) -> list[Path]:
         conv = read_json(path)
         if "case_level" not in conv:
             conv["case_level"] = load_study_case(conv["case"]).model.level
-        done.append(_write_record(conv, path.parent))
+        done.append(write_reduced(conv, path.parent))
     return done
 
 
@@ -482,7 +504,7 @@ def add_to_record(args) -> Path:
         label: {"date": utc_stamp(), "git_revision": git_revision(), "code_hash": code_hash()},
     }
     rec["added"] = added
-    out = _write_record(rec, path.parent)
+    out = write_reduced(rec, path.parent)
     print(f"added {label} to {out}", flush=True)
     return out
 
@@ -550,7 +572,7 @@ def study(args) -> Path | None:
         "skipped": skipped,
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
     }
-    conv = reduce_study(conv)
+    conv = reduce_study(with_recorded_scatter(conv, args.records))
     write_json(folder / STUDY_FILE, conv)
     if not speed_error_chart(conv, folder / CHART):
         (folder / CHART).unlink(missing_ok=True)

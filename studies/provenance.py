@@ -14,10 +14,9 @@ packages) of :data:`COMPUTE_ROOTS`; the drivers that choose what is solved
 benchmarks and command-line shells are outside it, so a change to a report neither discards
 finished positions nor marks a recorded convergence study as solved by other code. So are the
 reductions of a convergence study's runs (:mod:`postprocess.convergence`,
-:mod:`postprocess.convergence_study`): they are applied again to the stored runs whenever a
-study is read (:func:`postprocess.convergence_study.reduce_study`), so a fix to them takes
-effect on every record without solving its runs again (the scalars a run records,
-:mod:`postprocess.run_scalars`, are covered).
+:mod:`postprocess.convergence_study`): ``python -m studies.convergence --reduce-records``
+applies a fix to them to the stored runs of every record without solving a run again (the
+scalars a run records, :mod:`postprocess.run_scalars`, are covered).
 """
 
 from __future__ import annotations

@@ -35,8 +35,8 @@ from pathlib import Path
 from cases.study_case import inputs_hash, load_study_case, without_variant
 from postprocess.sector_scatter import level_inputs, other_size_spreads
 from studies.cli import InputError, guarded
-from studies.convergence import reduce_records
-from studies.files import read_json, write_json
+from studies.convergence import reduce_records, with_recorded_scatter, write_reduced
+from studies.files import ResultFileError, read_json, write_json
 from studies.provenance import git_revision, utc_stamp
 from studies.uncertainty import RECORDS, STUDY_FILE
 from studies.variant_file import variant_path
@@ -109,7 +109,27 @@ def record_scatter(
     kept = [e for e in conv.get("sector_scatter", []) if not any(same(e, n) for n in new)]
     write_json(path, {**conv, "sector_scatter": kept + new})
     reduce_records(records)
+    carry_to_this_machine(out / study.name / STUDY_FILE, records)
     return path
+
+
+def carry_to_this_machine(study_file: Path, records: Path) -> None:
+    """The case's study of this machine's results (it stands before the record in the ±
+    lookup, :mod:`studies.uncertainty`) takes the scatter just kept with the record, and is
+    reduced again with it; a study that cannot be read is named and left."""
+    if not study_file.is_file():
+        return
+    try:
+        conv = read_json(study_file)
+    except ResultFileError as exc:
+        print(f"{study_file}: cannot be read ({exc}); it keeps no sector scatter")
+        return
+    if not isinstance(conv, dict) or "case_level" not in conv:
+        return
+    bare = {k: v for k, v in conv.items() if k not in ("sector_scatter", "sector_scatter_from")}
+    carried = with_recorded_scatter(bare, records)
+    if carried is not bare:
+        write_reduced(carried, study_file.parent)
 
 
 def main(argv=None) -> int:

@@ -7,7 +7,7 @@ load do not change how fine the mesh must be for a given relative error, the gea
 and grid do. :func:`match_key` is what must agree; :func:`summary_uncertainty` finds the study
 (the case's own first, then the others in name order) and returns the summary's
 ``uncertainty`` entries for the run's level and degree
-(:func:`postprocess.convergence.uncertainty_for`), or ``uncertainty: None`` and a note saying
+(:func:`postprocess.convergence_record.uncertainty_for`), or ``uncertainty: None`` and a note saying
 what was looked for and where.
 
 Where to look: the studies of this machine (``<results>/convergence``) first, then the
@@ -20,9 +20,9 @@ its ± from a study (recorded or not) solved by other code says so
 (``uncertainty_source.code_changed``, and the reports), since a code change may change the
 discretisation error too (the inputs cannot have changed: they are in the match key).
 
-A study is reduced again by today's code when it is read
-(:func:`postprocess.convergence_study.reduce_study`): its ± follow today's reductions of its
-stored runs, and only the code that solved the runs decides ``code_changed``.
+A study is read as it was written, through :mod:`postprocess.convergence_record` (the
+record format and its reader): it is stored reduced, and no reduction of its runs is imported
+here. Only the code that solved its runs decides ``code_changed``.
 """
 
 from __future__ import annotations
@@ -32,10 +32,14 @@ import json
 from pathlib import Path
 
 from cases.study_case import StudyCase, study_inputs
-from postprocess.convergence import reproduction_text, uncertainty_for
-from postprocess.convergence_study import reduce_study
+from postprocess.convergence_record import (
+    missing_runs,
+    reproduced_by,
+    reproduction_text,
+    solved_with,
+    uncertainty_for,
+)
 from postprocess.run_scalars import run_label
-from postprocess.sector_scatter import carried_scatter
 from studies.files import ResultFileError, read_json
 from studies.provenance import code_hash
 
@@ -82,18 +86,7 @@ def _studies(folder: Path, name: str, key: dict, unreadable: list[str] | None = 
                 unreadable.append(f"{path}: {exc}")
             continue
         if isinstance(conv, dict) and conv.get("match") == key and conv.get("scalars"):
-            yield path, reduce_study(conv)
-
-
-def missing_runs(conv: dict) -> list[str]:
-    """Labels of the runs of its ladder a convergence study lacks: held as failed (an
-    ``error``: out of memory, a timeout, a solver error) or skipped (``skipped``: too little
-    free memory for an in-core run off the ladder, ``--min-free-gb``)."""
-    failed = [
-        str(r.get("label")) for r in conv.get("runs") or [] if isinstance(r, dict) and "error" in r
-    ]
-    skipped = [str(r.get("label")) for r in conv.get("skipped") or [] if isinstance(r, dict)]
-    return failed + skipped
+            yield path, conv
 
 
 def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> Path | None:
@@ -116,19 +109,6 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
                 "count"
             )
     return None
-
-
-def solved_with(conv: dict) -> list[str]:
-    """The source hashes of the code that solved a convergence study's runs (of the code that
-    reduced it, for a study that does not list them)."""
-    return sorted(set(conv.get("runs_code_hash") or [conv.get("code_hash")]))
-
-
-def reproduced_by(conv: dict, source: str) -> dict | None:
-    """The latest of a study's ``reproduced`` entries (a run solved again,
-    ``python -m studies.convergence CASE --reproduce L``) by the code of hash ``source``."""
-    mine = [e for e in conv.get("reproduced") or [] if e.get("code_hash") == source]
-    return mine[-1] if mine else None
 
 
 def summary_uncertainty(
@@ -161,22 +141,6 @@ def summary_uncertainty(
     return out
 
 
-def _with_kept_scatter(conv: dict, found) -> tuple[dict, Path | None]:
-    """``conv`` reduced with the sector scatter another of the studies ``found`` keeps for
-    the same sectors (:func:`postprocess.sector_scatter.carried_scatter`: one match key,
-    case level and case-level inputs), and that study's path; ``conv`` and None where it
-    keeps its own or none applies. ``make sector-scatter`` keeps the scatter with the record
-    only, while the study of this machine's results, solved by the same code, stands before
-    the record: without this its ± would lack the floor the record's have."""
-    if conv.get("sector_scatter"):
-        return conv, None
-    for path, other in found:
-        kept = carried_scatter(other, conv)
-        if kept:
-            return reduce_study({**conv, "sector_scatter": kept}), path
-    return conv, None
-
-
 def _from_studies(study, label: str, folder, key, found) -> dict:
     """:func:`summary_uncertainty` of the run ``label`` from the readable studies ``found``."""
     if found:
@@ -184,14 +148,8 @@ def _from_studies(study, label: str, folder, key, found) -> dict:
         # a study whose run at this level failed (a timeout) gives no ± there: the next one
         have = [(p, c) for p, c in found if label in c.get("labels", [])] or found
         path, conv = next(((p, c) for p, c in have if solved_with(c) == now), have[0])
-        conv, scatter_from = _with_kept_scatter(conv, found)
         out = uncertainty_for(conv, label, str(path))
         src = out["uncertainty_source"]
-        if scatter_from is not None:
-            src["sector_scatter_from"] = str(scatter_from)
-            src["note"] += (
-                f"; the sector scatter under its root stresses' U as kept with {scatter_from}"
-            )
         src["code_changed"] = solved_with(conv) != now
         if conv.get("recorded"):
             src["recorded"] = conv["recorded"]

@@ -18,6 +18,7 @@ from mpi4py import MPI
 
 from postprocess import convergence as cv
 from postprocess import run_scalars
+from postprocess.convergence_record import uncertainty_for
 from postprocess.plus_minus import NOT_CARRIED, OFFSET_REL_MAX, plus_minus
 from solvers.elastic_body import Dirichlet, ElasticBody, Material, Traction
 
@@ -175,14 +176,14 @@ def test_uncertainty_entry_and_plus_minus():
             },
         },
     }
-    got = cv.uncertainty_for(study, "L1P1", "results/convergence/1-GB/convergence.json")
+    got = uncertainty_for(study, "L1P1", "results/convergence/1-GB/convergence.json")
     assert got["uncertainty"] == {"My_pin": 0.02, "ZS": 0.5}
     assert got["uncertainty_source"]["case"] == "1-GB"
     summary = {**SUMMARY, **got, "case": "1-GB"}
     assert plus_minus(summary, "My_pin") == " ± 0.8"  # 2 % of 40 N m
     assert plus_minus(summary, "ZS", ".2f") == " ± 0.10"  # the study's own case: absolute mm
     assert plus_minus(summary, "Mx_pin") == ""
-    none = cv.uncertainty_for(study, "L3P1", "x.json")
+    none = uncertainty_for(study, "L3P1", "x.json")
     assert none["uncertainty"] is None and "no run L3P1" in none["uncertainty_source"]["note"]
     assert plus_minus({**SUMMARY, **none}, "My_pin") == ""
 

@@ -10,6 +10,7 @@ import pytest
 
 from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, MeshingError, run_sizes, with_fillet, with_sizes
+from postprocess.convergence_record import missing_runs
 from postprocess.convergence_report import speed_error_chart, write_report
 from postprocess.convergence_study import (
     compare_runs,
@@ -25,7 +26,6 @@ from studies.uncertainty import (
     RECORDS,
     STUDY_FILE,
     match_key,
-    missing_runs,
     recorded,
     summary_uncertainty,
 )
@@ -438,7 +438,7 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
         and "recorded" in (got["uncertainty_source"])
     )
     # the reports' ± line names the record and that the code changed since
-    from postprocess.convergence import uncertainty_note
+    from postprocess.convergence_record import uncertainty_note
 
     line = uncertainty_note({"1-GA": {**got}})
     assert f"recorded {stored['recorded']['date']} on commit" in line
@@ -1088,7 +1088,7 @@ def test_a_run_without_a_targeted_scalar_does_not_meet_the_targets():
 def test_a_two_level_study_gives_its_off_ladder_run_a_bound():
     """Two ladder levels and a P2 run: the P2 run is listed, so it must get a ± (before it
     got none, and a summary at level 0 P2 took '{}' from this study)."""
-    from postprocess.convergence import uncertainty_for
+    from postprocess.convergence_record import uncertainty_for
 
     rows = _ladder({"My_pin": [39.0, 39.6, 40.0]})[:2]
     p2 = {**rows[0], "label": "L0P2", "degree": 2, "scalars": {"My_pin": 39.8}}
@@ -1178,7 +1178,7 @@ def test_a_two_level_study_assumes_the_formal_order_of_where_a_stress_is_read():
 
 
 def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
-    from postprocess.convergence import reproduction_text
+    from postprocess.convergence_record import reproduction_text
     from postprocess.convergence_study import compare_runs
 
     a = {
@@ -1238,7 +1238,7 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     import shutil
 
     import studies.convergence as conv_mod
-    from postprocess.convergence import uncertainty_note
+    from postprocess.convergence_record import uncertainty_note
     from studies.convergence import main
     from studies.provenance import code_hash
 

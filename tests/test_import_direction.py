@@ -8,10 +8,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 LAYERS = ["gears", "cases", "meshing", "solvers", "postprocess", "studies"]
 PRODUCT = ["studies.console", "studies.run"]  # the entry points of one run and its report
-# the research and verification studies: drivers and their reports. Not yet listed: the
-# convergence reductions (postprocess.convergence, convergence_study, sector_scatter), which
-# the summaries' ± still re-reduce from the records (studies.uncertainty) instead of reading
-# a record's stored ±.
+# the research and verification studies: drivers, their reports and the convergence
+# reductions (the summaries read a record's stored ± through postprocess.convergence_record)
 RESEARCH = {
     *(f"studies.{m}" for m in (
         "analytic", "bench_contact", "bench_linear", "bench_meshing", "bench_peer",
@@ -21,7 +19,8 @@ RESEARCH = {
         "system_report",
     )),
     *(f"postprocess.{m}" for m in (
-        "case1_report", "case2_report", "convergence_report", "fillet_study",
+        "case1_report", "case2_report", "convergence", "convergence_report",
+        "convergence_study", "fillet_study", "sector_scatter",
         "lead_correction", "peer_ccx", "phasing_fe", "radial_stiffness_fe", "system_report",
     )),
 }  # fmt: skip

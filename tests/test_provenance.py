@@ -36,8 +36,8 @@ def test_the_solver_path_is_covered_and_the_reports_are_not():
         "cases/gearsets/case2.toml",
     ):
         assert name in names, name
-    # reports, and the reductions of a ladder of runs, applied again whenever a study is read
-    # (postprocess.convergence_study.reduce_study): a fix to them keeps the records' runs
+    # reports, and the reductions of a ladder of runs (applied again to the records' runs by
+    # python -m studies.convergence --reduce-records): a fix to them keeps the records' runs
     reports = (
         "postprocess.convergence",
         "postprocess.convergence_study",

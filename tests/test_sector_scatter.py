@@ -333,34 +333,53 @@ def test_a_record_replacing_an_unreadable_one_carries_nothing_and_says_so(tmp_pa
     assert "cannot be read" in capsys.readouterr().out
 
 
-def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path):
+def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path, capsys):
     """make sector-scatter keeps the scatter with the record; the same ladder's study under
     this machine's results (the same runs, so solved by the same code) stands before the
-    record in the ± lookup and must not print a ± without the floor the record's has."""
+    record in the ± lookup, which reads a study as written, so it must carry the floor when
+    it is written (after the record's scatter: studies.convergence.with_recorded_scatter) and
+    when the scatter is kept after it (studies.sector_scatter.carry_to_this_machine)."""
+    from studies.convergence import with_recorded_scatter
+    from studies.sector_scatter import carry_to_this_machine
     from studies.uncertainty import summary_uncertainty
 
     records, results = tmp_path / "records", tmp_path / "results"
     shutil.copytree(RECORDS / "1-GB", records / "1-GB")
     rec = read_json(records / "1-GB" / "convergence.json")
     assert rec["sector_scatter"]  # the record keeps its scatter
-    (results / "convergence" / "1-GB").mkdir(parents=True)
-    bare = {k: v for k, v in rec.items() if k != "sector_scatter"}
-    write_json(results / "convergence" / "1-GB" / "convergence.json", bare)
+    mine = results / "convergence" / "1-GB" / "convergence.json"
+    mine.parent.mkdir(parents=True)
+    bare = {k: v for k, v in rec.items() if k not in ("sector_scatter", "recorded")}
     key = "bending_stress_recovered.ring"
     own = reduce_study(bare)["scalars"][key]["uncertainty"]["L1P1"]
     floored = reduce_study(rec)["scalars"][key]["uncertainty"]["L1P1"]
     assert floored > own  # 1-GB: the ring's sector scatter lies above its sector ladder's U
-    got = summary_uncertainty(load_study_case("1-GB"), 1, 1, results, records=records)
+
+    def lookup():
+        return summary_uncertainty(load_study_case("1-GB"), 1, 1, results, records=records)
+
+    # written after the record's scatter: the driver carries it
+    write_json(mine, reduce_study(with_recorded_scatter(bare, records)))
+    got = lookup()
     src = got["uncertainty_source"]
-    assert src["convergence_study"].startswith(str(results))  # this machine's study first
+    assert src["convergence_study"] == str(mine)  # this machine's study first
     assert got["uncertainty"][key] == pytest.approx(floored, rel=1e-12)
     assert src["sector_scatter_from"] == str(records / "1-GB" / "convergence.json")
+    assert "kept with" in capsys.readouterr().out
+    # written before it: keeping the scatter with the record reduces this study again
+    write_json(mine, reduce_study(bare))
+    assert lookup()["uncertainty"][key] == pytest.approx(own, rel=1e-12)
+    carry_to_this_machine(mine, records)
+    assert lookup()["uncertainty"][key] == pytest.approx(floored, rel=1e-12)
+    assert (mine.parent / "report.md").is_file()
     # a record whose case-level run was solved from other inputs lends it nothing
     rec["runs"] = [
         dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"}) if r["level"] == 1 else r
         for r in rec["runs"]
     ]
     write_json(records / "1-GB" / "convergence.json", rec)
-    got = summary_uncertainty(load_study_case("1-GB"), 1, 1, results, records=records)
-    assert got["uncertainty"][key] == pytest.approx(own, rel=1e-12)
-    assert "sector_scatter_from" not in got["uncertainty_source"]
+    assert with_recorded_scatter(bare, records) is bare
+    # and a study that cannot be read is named and left
+    mine.write_text("{ not json")
+    carry_to_this_machine(mine, records)
+    assert "cannot be read" in capsys.readouterr().out
