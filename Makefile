@@ -106,7 +106,7 @@ study: $(STAMP) ## one study for any case file: make study CASE=path/to/case.tom
 # The cases of a group run in one process: their bodies are factorized once and reused.
 case1: $(STAMP) ## the four case-1 FE cases and their report: results/case1/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --out $(RESULTS) $(CASE_FLAGS)
-	$(PY) -m studies.case1_report --results $(RESULTS)
+	$(PY) -m studies.paper.case1 --results $(RESULTS)
 
 # The system scenes and their branch references run at SYSTEM_LEVEL's own sizes (--level):
 # at plain level 1 they already peak at 19-21 GB, so the case files' finer flanks and fillets
@@ -117,7 +117,7 @@ case1-system: $(STAMP) ### case 1 in the system scene (elastic carrier): results
 	$(PY) -m studies.pin_errors 1-GB --errors 0 10 25 50 --out $(RESULTS)/case1-system
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --root-fillets coarse --level $(SYSTEM_LEVEL) \
 	  --out $(RESULTS)/case1-system/branch $(STUDY_FLAGS)
-	$(PY) -m studies.system_report --branch $(RESULTS)/case1-system/branch \
+	$(PY) -m studies.paper.system --branch $(RESULTS)/case1-system/branch \
 	  --system $(RESULTS)/case1-system --cases $(CASE1) --pair 1-GB-R 1-GC
 
 # The system scenes keep every root fillet coarse (numerics.root_fillets "auto") and read the
@@ -134,26 +134,26 @@ case2-system: $(STAMP) ### case 2 in the system scene (six carrier pins): result
 	  --level $(SYSTEM_LEVEL) --out $(RESULTS)/case2-system $(STUDY_FLAGS)
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --root-fillets coarse \
 	  --level $(SYSTEM_LEVEL) --out $(RESULTS)/case2-system/branch $(STUDY_FLAGS)
-	$(PY) -m studies.system_report --branch $(RESULTS)/case2-system/branch \
+	$(PY) -m studies.paper.system --branch $(RESULTS)/case2-system/branch \
 	  --system $(RESULTS)/case2-system --cases $(CASE2)
 
 # --single: the single-pinion cases the pattern shift is compared with (same bearing).
 case2: $(STAMP) ## the case-2 FE cases (double pinion) and their report: results/case2/report.md
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(CASE_FLAGS)
-	$(PY) -m studies.case2_report --results $(RESULTS) --cases $(CASE2) --single $(CASE1)
+	$(PY) -m studies.paper.case2 --results $(RESULTS) --cases $(CASE2) --single $(CASE1)
 
 bench-study: $(STAMP) ### reuse and MPI speed-ups of the study: results/bench/study.json
-	$(PY) -m studies.bench_study --out $(RESULTS)/bench --level 1
+	$(PY) -m studies.benchmarks.study --out $(RESULTS)/bench --level 1
 
 meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
 	$(PY) -m studies.meshes --gearsets $(GEARSETS) --carrier --out $(RESULTS)/meshes
 
 bench-mesh: $(STAMP) ### meshing benchmark: results/bench/meshing.json
-	$(PY) -m studies.bench_meshing --gearsets $(GEARSETS) --out $(RESULTS)/bench/meshing.json
+	$(PY) -m studies.benchmarks.meshing --gearsets $(GEARSETS) --out $(RESULTS)/bench/meshing.json
 
 bench-solver: $(STAMP) ### contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
-	$(PY) -m studies.bench_solver --out $(RESULTS)/bench
-	$(MPIEXEC) -n 2 $(PY) -m studies.bench_solver --out $(RESULTS)/bench/mpi2
+	$(PY) -m studies.benchmarks.solver --out $(RESULTS)/bench
+	$(MPIEXEC) -n 2 $(PY) -m studies.benchmarks.solver --out $(RESULTS)/bench/mpi2
 
 # Contact models (issue 11): line grid against zone grid on 1-GA and 1-GC at level 0, one
 # position, penalty factor swept over three decades; cost per position, line-end loads and
@@ -164,7 +164,7 @@ FILLETS ?= 0.45 0.3 0.2 0.15 0.12
 .PHONY: fillet-study
 fillet-study: $(STAMP) ### root stress against fillet size: results/fillet/<case>/fillet_L1_loaded.{json,md}
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make fillet-study CASE=1-GB" >&2; exit 2; }
-	$(PY) -m studies.fillet_study $(CASE) --level 1 --fillets $(FILLETS) --loaded-only \
+	$(PY) -m studies.fillet $(CASE) --level 1 --fillets $(FILLETS) --loaded-only \
 	  --out $(RESULTS)/fillet
 
 # Where a level's root-stress driver error comes from: the global mesh of level DRIVER_LEVEL
@@ -174,7 +174,7 @@ fillet-study: $(STAMP) ### root stress against fillet size: results/fillet/<case
 DRIVER_LEVEL ?= 0
 .PHONY: driver-sizes
 driver-sizes: $(STAMP) ### which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>[_roll<roll>].{json,md}
-	$(PY) -m studies.driver_sizes --case $(or $(CASE),1-GB) --level $(DRIVER_LEVEL) \
+	$(PY) -m studies.convergence.driver_sizes --case $(or $(CASE),1-GB) --level $(DRIVER_LEVEL) \
 	  --out $(RESULTS)/convergence
 
 # Which sizes a root-stress sector's values follow: one global solution of level
@@ -189,7 +189,7 @@ SECTOR_VARIANTS ?=
 SECTOR_ROLL ?= 0
 .PHONY: sector-sizes
 sector-sizes: $(STAMP) ### which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>[_roll<roll>].{json,md}
-	$(PY) -m studies.sector_sizes --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
+	$(PY) -m studies.convergence.sector_sizes --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
 	  --roll $(SECTOR_ROLL) $(if $(SECTOR_VARIANTS),--variants $(SECTOR_VARIANTS)) \
 	  --out $(RESULTS)/convergence
 
@@ -197,7 +197,7 @@ sector-sizes: $(STAMP) ### which sizes the root-stress sector follows: results/c
 # 1) kept with the case's convergence record: the floor under its root stresses' sector U.
 .PHONY: sector-scatter
 sector-scatter: $(STAMP) ### keep sector-sizes' scatter with the case's record (solves nothing): studies/records/convergence/<case>/
-	$(PY) -m studies.sector_scatter --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
+	$(PY) -m studies.convergence.sector_scatter --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
 	  --roll $(SECTOR_ROLL) --out $(RESULTS)/convergence
 
 # The bodies' linear solvers (issue 13 item 5): exact MUMPS LU, block low-rank MUMPS and
@@ -205,11 +205,11 @@ sector-scatter: $(STAMP) ### keep sector-sizes' scatter with the case's record (
 LINEAR_LEVELS ?= 1 2
 .PHONY: bench-linear
 bench-linear: $(STAMP) ### exact LU vs BLR vs CG/GAMG: results/bench/linear_solver.{json,md}
-	$(PY) -m studies.bench_linear --levels $(LINEAR_LEVELS) --out $(RESULTS)/bench
+	$(PY) -m studies.benchmarks.linear --levels $(LINEAR_LEVELS) --out $(RESULTS)/bench
 
 .PHONY: bench-contact
 bench-contact: $(STAMP) ### line vs zone contact model: results/bench/contact_grid.json
-	$(PY) -m studies.bench_contact --out $(RESULTS)/bench --level 0
+	$(PY) -m studies.benchmarks.contact --out $(RESULTS)/bench --level 0
 
 # Convergence study of any case (issue 13): mesh levels 0 1 2 (P1) and level 0 with P2 (the p
 # step, skipped with a note when less than 16 GB are free: it peaks at ~14 GB), one mesh
@@ -320,7 +320,7 @@ lead-correction: $(STAMP) ### lead correction of a case: make lead-correction CA
 # root and ccx is missing; the main `make` and `make test` never need it.
 .PHONY: bench-peer ccx-setup
 PEER_LEVELS ?= 0
-# e.g. PEER_ARGS="--ccx-penalty-sweep 1000 10 --reuse-ccx" (see studies/bench_peer.py)
+# e.g. PEER_ARGS="--ccx-penalty-sweep 1000 10 --reuse-ccx" (see studies/peer/driver.py)
 PEER_ARGS ?=
 ccx-setup:
 	@command -v ccx >/dev/null 2>&1 || { \
@@ -332,7 +332,7 @@ ccx-setup:
 	  command -v ccx >/dev/null 2>&1 || { echo "error: CalculiX (ccx) not found and not installable here: run 'apt-get install -y calculix-ccx' as root (Debian/Ubuntu), or put ccx on PATH" >&2; exit 1; }; }
 
 bench-peer: $(STAMP) ccx-setup ### ours against CalculiX on the same meshes: results/bench/peer.{json,md}
-	$(PY) -m studies.bench_peer --cases 1-GA 1-GC --levels $(PEER_LEVELS) --out $(RESULTS)/bench \
+	$(PY) -m studies.peer --cases 1-GA 1-GC --levels $(PEER_LEVELS) --out $(RESULTS)/bench \
 	  $(PEER_ARGS)
 
 # The docs site, offline, warnings as errors (the case-file references are generated from

@@ -18,7 +18,7 @@ in 21 s (0.6 GB).
 
 Fillet sizes. The P1 surface root stress (:mod:`solvers.root_stress`) levels off only at
 fillet sizes of 0.12-0.15 mm, which fit in memory only if just the fillets that are read are
-refined. A fillet-only ladder (:func:`with_fillet`, ``python -m studies.fillet_study``;
+refined. A fillet-only ladder (:func:`with_fillet`, ``python -m studies.fillet``;
 1-GB, sun angle 0, P1, serial, one child process per run; surface maximum in MPa; the
 level-0 and the first three "loaded only" runs of the old table shared the 2 cores with
 other jobs, so their times are upper bounds):
@@ -76,7 +76,7 @@ Level 0 (CI) keeps its cost: 0.45 mm on the named fillets and 1.0 mm on the othe
 DOFs, 11 s, 1.3 GB (before: every active fillet at 0.6 mm, 129k, 10 s, 1.2 GB); its root
 stress is a smoke value (24-37 % below the 0.12 mm values). Levels 2, 3, 4 go on refining the
 fillet below its levelling-off size, 0.12, 0.1 and 0.08 mm (every level a different fillet
-size, as the three-grid extrapolation of :mod:`postprocess.convergence_study` needs);
+size, as the three-grid extrapolation of :mod:`studies.convergence.reduction` needs);
 meshed, not solved here: level 2 about 1.1M DOFs (before 692k DOFs, 10.1 GB; expect
 about 15 GB), level 3 about 2.1M, level 4 about 3.9M (meshed in 8 min, with one more
 pinion fillet); case 2 (2B-GA, 4 bodies) at level 1 about 838k DOFs instead of 370k. The
@@ -125,7 +125,7 @@ def with_fillet(level, fillet: float) -> Level:
     """``level`` (an index of :data:`LEVELS` or a :class:`Level`) with the fillet size of
     the named fine fillets (every fillet of the active teeth of a body that names none) set
     to ``fillet`` (mm): a fillet-only refinement at fixed flank and body sizes
-    (studies/fillet_study.py). Pass the returned :class:`Level` wherever a level is
+    (studies/fillet/driver.py). Pass the returned :class:`Level` wherever a level is
     taken; the mesh cache keys hold a :class:`Level`'s sizes (a level index is covered by
     the source of this module), so a changed size never reuses a cached mesh."""
     return check_level(replace(check_level(level), fillet=fillet))
@@ -137,7 +137,7 @@ def with_sizes(
     """The sizes of ``level`` with the flank elements of the active teeth at level
     ``flank_level``'s and the named fine fillets at level ``fillet_level``'s (indices of
     :data:`LEVELS`; None keeps ``level``'s): an off-ladder run of a convergence study
-    (:mod:`studies.convergence`, ``--extra L:D:F[:R]``), whose contact grid follows the
+    (:mod:`studies.convergence.driver`, ``--extra L:D:F[:R]``), whose contact grid follows the
     flank size as at every level (:func:`studies.position.solve_position`). The other
     teeth, the other fillets and the body keep ``level``'s sizes, and the root stress is
     read on ``level``'s sector (:func:`meshing.submodel.submodel_level` of the index)."""

@@ -52,7 +52,7 @@ SECTOR_STEP = 1
 #: (MPa): straight 822.0 / 811.2 / 803.4 (observed order 0.8), curved 816.1 / 810.0 / 807.6
 #: (order 2.3); the other keys oscillate by up to 1.3 % curved, 2.4 % straight, but for
 #: the pinion's sun-side surface, which converges on curved tets (order 2.0;
-#: studies/sector_sizes.py).
+#: studies/convergence/sector_sizes.py).
 #: Straight until the convergence records are solved again with curved sectors
 SUBMODEL_GEOMETRY_ORDER = 1
 

@@ -1,6 +1,6 @@
 """The convergence record, read: where a summary's ± come from.
 
-A convergence study (``make convergence``, :mod:`studies.convergence`) writes one
+A convergence study (``make convergence``, :mod:`studies.convergence.driver`) writes one
 ``convergence.json`` per case; a record is such a file kept in the repository
 (``studies/records/convergence/<case>/``). This module reads the keys below and nothing
 else; it does not reduce the runs again (the study is stored reduced, and a test holds every

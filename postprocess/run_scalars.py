@@ -9,9 +9,9 @@ up. :func:`scalar_kind` and :func:`unit` classify a key.
 
 A run's numbers pass through this module, so it is under the source hash
 (:func:`studies.provenance.code_hash`); the reductions of a ladder of runs
-(:mod:`postprocess.convergence`, :mod:`postprocess.convergence_study`) are not: they are
+(:mod:`studies.convergence.richardson`, :mod:`studies.convergence.reduction`) are not: they are
 applied to a study's stored runs when it is written, and again by ``python -m
-studies.convergence --reduce-records`` (:func:`postprocess.convergence_study.reduce_study`).
+studies.convergence.driver --reduce-records`` (:func:`studies.convergence.reduction.reduce_study`).
 """
 
 from __future__ import annotations

@@ -401,7 +401,7 @@ def zone_grid(
     The choice of normal is a model uncertainty of about +-1.2 % on the moments where tip
     corners carry load (1-GC, an overturned pinion; this rule sits between the two
     single-flank choices) and none where the load sits on the contact line (1-GA)
-    (``studies.bench_contact``; measured: docs/validation.md).
+    (``studies.benchmarks.contact``; measured: docs/validation.md).
 
     Grid. Per tooth pair within reach (every driver tooth whose roll t(z) lies within one
     base pitch of the contact window somewhere on the face, so at least one pair beyond the

@@ -20,7 +20,7 @@ into a stress that peaks at the surface: a lower estimate that rises as the mesh
 a least-squares extrapolation of the cell values to the surface was tried and rejected:
 with one or two cell layers across a 0.85 mm fillet radius it either averaged in the deeper,
 lower stresses or, fitted on the vertex patches, was unstable, 4.5-8x the cell values;
-rechecked with the fillet-only ladder of studies/fillet_study.py: a patch of radius 1.5-3
+rechecked with the fillet-only ladder of studies/fillet/driver.py: a patch of radius 1.5-3
 fillet edges also reaches the neighbouring tooth across the tooth space, and a fit kept to
 the cells under the vertex (material side, along the normal) gave 450-760 MPa for the sun
 at level 0 as the patch shrank from 2 to 1 edge deep (nodal 552, P2 807): no stable

@@ -88,14 +88,14 @@ SUBMODEL_GUESSES = ("rigid", "zero")
 #: relative residual of the CG solve. CG takes nearly all of a sector's solve time, so this
 #: sets what the submodels cost per position. At 1e-6 the root stresses differ from a 1e-10
 #: solve by a few 1e-4: far below the smallest root-stress ± and the 1 MPa the values are
-#: reported to (``python -m studies.bench_submodel``; measured: docs/performance.md)
+#: reported to (``python -m studies.benchmarks.submodel``; measured: docs/performance.md)
 SUBMODEL_CG_RTOL = 1e-6
 #: GAMG's graph threshold for the sectors' aggregation (edges weaker than it, relative, are
 #: dropped before aggregating). The set-up is paid once per sector, the CG once per position:
 #: 0.0 sets a sector up about twice as fast as 0.02 and solves it a little slower, which
 #: halves a sector solved once (a ladder run) and changes a case run that reuses its
 #: sectors over 10-20 solves by a few per cent either way. So one threshold for every
-#: sector, 0.0 (``python -m studies.bench_submodel --thresholds``; measured:
+#: sector, 0.0 (``python -m studies.benchmarks.submodel --thresholds``; measured:
 #: docs/performance.md).
 SUBMODEL_GAMG_THRESHOLD = 0.0
 

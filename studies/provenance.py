@@ -13,8 +13,8 @@ packages) of :data:`COMPUTE_ROOTS`; the drivers that choose what is solved
 (:data:`DRIVERS`, their own source); and every case and gear-set file. Reports, pictures,
 benchmarks and command-line shells are outside it, so a change to a report neither discards
 finished positions nor marks a recorded convergence study as solved by other code. So are the
-reductions of a convergence study's runs (:mod:`postprocess.convergence`,
-:mod:`postprocess.convergence_study`): ``python -m studies.convergence --reduce-records``
+reductions of a convergence study's runs (:mod:`studies.convergence.richardson`,
+:mod:`studies.convergence.reduction`): ``python -m studies.convergence --reduce-records``
 applies a fix to them to the stored runs of every record without solving a run again (the
 scalars a run records, :mod:`postprocess.run_scalars`, are covered).
 """
@@ -48,12 +48,12 @@ VERSIONED = (
 # the modules through which a position's, a summary's and a convergence run's numbers pass
 COMPUTE_ROOTS = (
     "studies.position",
-    "studies.position_runs",
+    "studies.convergence.position_runs",
     "postprocess.summary",
     "postprocess.run_scalars",
 )
 # the drivers that choose what is solved (their own source; their reports are outside)
-DRIVERS = ("studies.run", "studies.convergence")
+DRIVERS = ("studies.run", "studies.convergence.driver")
 
 
 def _module_file(name: str) -> Path | None:
@@ -104,6 +104,11 @@ def numeric_sources() -> dict[str, Path]:
         if name not in seen:
             seen.add(name)
             todo.extend(_imported(name) - seen)
+    # importing a.b.c runs the __init__ of a and a.b too
+    packages = {
+        ".".join(n.split(".")[:i]) for n in seen | set(DRIVERS) for i in range(1, n.count(".") + 1)
+    }
+    seen |= {p for p in packages if _module_file(p) is not None}
     out = {name: _module_file(name) for name in sorted(seen | set(DRIVERS))}
     for f in sorted((REPO_ROOT / "cases").rglob("*.toml")):
         out[str(f.relative_to(REPO_ROOT))] = f

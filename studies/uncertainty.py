@@ -92,7 +92,7 @@ def _studies(folder: Path, name: str, key: dict, unreadable: list[str] | None = 
 def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> Path | None:
     """The record (its convergence.json) of a convergence study of ``study``'s match key
     run with ``ladder`` (levels, extra runs, positions, split root stress; what
-    :mod:`studies.convergence` writes as ``ladder``) and every run of it finished, or None.
+    :mod:`studies.convergence.driver` writes as ``ladder``) and every run of it finished, or None.
     A record with a failed run is not one (``--record`` refuses such a study since
     2026-11-28; before, it wrote what finished): ``--unless-recorded`` would then never
     solve the missing run; it is named on stdout."""

@@ -11,8 +11,8 @@ def paper_inputs():
 
 
 def paper_tables():
-    """Every analytical table of :func:`postprocess.analytic.tables.build_tables`."""
-    from postprocess.analytic.tables import build_tables
+    """Every analytical table of :func:`studies.analytic.tables.build_tables`."""
+    from studies.analytic.tables import build_tables
 
     a = load_analytic_study()
     return build_tables(*paper_inputs(), a.bearing_radial_stiffness)

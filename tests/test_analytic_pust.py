@@ -14,7 +14,7 @@ from paper_sets import paper_inputs
 from cases.analytic_study import load_analytic_study
 from gears.analytic import planetary, printed
 from gears.analytic import radial_stiffness as rs
-from postprocess.analytic import tables as study
+from studies.analytic import tables as study
 
 STATED = {"m2": rs.PUST_M2, "m3": rs.PUST_M3, "k_c": rs.PUST_KC, "k_r": rs.PUST_KR}
 

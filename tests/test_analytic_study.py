@@ -7,7 +7,7 @@ import math
 import pytest
 from paper_sets import paper_inputs, paper_tables
 
-from studies.analytic import run
+from studies.analytic.driver import run
 
 
 @pytest.fixture(scope="module")
@@ -148,7 +148,7 @@ def test_the_case2_report_takes_the_paper_tables_only_for_the_paper_set(tmp_path
     the analytic study's set is the summaries'. A set with the paper's centre distances and
     torque but another helix angle (1 deg more: other axial forces, so other moments) took
     them before: the check compared centre distances and torque alone."""
-    from postprocess.case2_report import analytic_reference
+    from studies.paper.case2_report import analytic_reference
 
     path = tmp_path / "tables.json"
     path.write_text(json.dumps(paper_tables()))

@@ -3,7 +3,7 @@
 
 import pytest
 
-from studies.bench_submodel import _threshold_report, main
+from studies.benchmarks.submodel import _threshold_report, main
 
 
 @pytest.mark.parametrize(

@@ -21,11 +21,11 @@ from statics import chain_bound, off_line_share, sun_force
 from test_docs_outputs import check_run
 
 from cases.study_case import CASE_DIR, load_study_case
-from postprocess.case2_report import collinear_check, planetary_input, write_report
 from postprocess.paper_report import record_wall_time, write_paper_report
 from solvers.body_store import BodyStore
 from studies import run as study_run
 from studies.case_variants import global_root_stress
+from studies.paper.case2_report import collinear_check, planetary_input, write_report
 from studies.position import cycle_sector_teeth, solve_position
 from studies.progress import Progress
 from studies.settings import RunSettings

@@ -250,7 +250,7 @@ def test_system_report_double_pinion(tmp_path):
     change computed from the two summaries."""
     import json
 
-    from postprocess.system_report import write_system_report
+    from studies.paper.system_report import write_system_report
 
     gearset = {
         "kind": "double_pinion",
@@ -302,7 +302,7 @@ def test_system_report_double_pinion(tmp_path):
 def test_system_report_root_stress_rows_in_the_branch_order():
     """The root-stress rows of a case follow the branch's gear order (sun, pinion sides,
     ring), whatever order the system summary's set maxima came in (1-GC's did not)."""
-    from postprocess.system_report import _root_stress_text
+    from studies.paper.system_report import _root_stress_text
 
     order = ("sun", "pinion_sun_side", "pinion_ring_side", "ring")
     branch = {"bending_stress": {k: 100.0 + j for j, k in enumerate(order)}}
@@ -321,7 +321,7 @@ def test_system_report_says_whether_the_fillets_compare_like_with_like(branch_re
     the system scene does not: a branch run with the default against a system run mixes the
     fillets' compliance into the carrier's effect, and the report says so; with the branch
     run coarse it says the two compare like with like. Read from what each run recorded."""
-    from postprocess.system_report import _fillet_note, root_fillets
+    from studies.paper.system_report import _fillet_note, root_fillets
 
     branch = {"2X": {"bending_stress": {"sun": 700.0} if branch_refined else None}}
     system = {"2X": {"bending_stress": None, "bending_stress_note": "not read"}}

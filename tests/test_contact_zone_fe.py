@@ -21,7 +21,7 @@ from solvers.contact import ContactPair, ContactProblem, psd_projection
 from solvers.contact_grid import ContactGrid, ZoneLink
 from solvers.results import contact_resultant, line_load, resultants
 from solvers.verification import roller_scene
-from studies.bench_contact import run_case
+from studies.benchmarks.contact import run_case
 
 H = 1.0  # element size at the contact (mm)
 Q = 1.0e4  # N/mm
@@ -197,7 +197,7 @@ def test_zone_parallel_equals_serial():
 # ------------------------------------------------------------------ a gear mesh (level 0)
 @pytest.fixture(scope="module")
 def gear_zone():
-    # 1-GA (aligned), one branch, level 0, roll 0: the benchmark's run (studies.bench_contact)
+    # 1-GA (aligned), one branch, level 0, roll 0: the benchmark's run (studies.benchmarks.contact)
     return run_case("1-GA", "zone", 0, 0.0, [100.0], MPI.COMM_WORLD, BodyStore())
 
 

@@ -1,5 +1,5 @@
-"""Richardson extrapolation and GCI (postprocess.convergence): synthetic sequences with a known
-order and limit, every non-monotone status, the summary scalars and uncertainty entries, and
+"""Richardson extrapolation and GCI (studies.convergence.richardson): synthetic sequences with a
+known order and limit, every non-monotone status, the summary scalars and uncertainty entries, and
 an FE case with a closed form (Lame's thick cylinder) where the study recovers the order of
 P1 elements and the exact limit."""
 
@@ -16,11 +16,11 @@ import pytest
 import ufl
 from mpi4py import MPI
 
-from postprocess import convergence as cv
 from postprocess import run_scalars
 from postprocess.convergence_record import uncertainty_for
 from postprocess.plus_minus import NOT_CARRIED, OFFSET_REL_MAX, plus_minus
 from solvers.elastic_body import Dirichlet, ElasticBody, Material, Traction
+from studies.convergence import richardson as cv
 
 LADDER = (1.0, 0.7, 0.45)  # the flank element sizes of levels 0, 1, 2 (meshing.sizing)
 

@@ -12,12 +12,12 @@ import pytest
 
 from cases.study_case import load_study_case
 from meshing.submodel import submodel_level
-from postprocess.case1_report import write_report
-from postprocess.convergence_study import scalar_table
 from postprocess.run_scalars import summary_scalars
 from studies import run as study_run
+from studies.convergence.position_runs import FILLET_SCALARS, solve_run
+from studies.convergence.reduction import scalar_table
 from studies.files import write_json
-from studies.position_runs import FILLET_SCALARS, solve_run
+from studies.paper.case1_report import write_report
 from studies.progress import Progress
 from studies.provenance import code_hash
 from studies.uncertainty import STUDY_FILE, match_key
@@ -113,7 +113,8 @@ def test_a_submodel_reading_at_the_own_fillet_repeats_the_run(level0):
 def test_a_run_with_the_next_levels_flanks_refines_the_flanks_and_grid_only(level0):
     """A level-0 run with level 1's flanks (``--extra 0:1:1``): its flank elements and
     contact grid are level 1's, its fillets and root-stress sectors level 0's. Level 0's
-    moments move by 1.5-2 % to level 1's, most of it from the flanks (studies.driver_sizes):
+    moments move by 1.5-2 % to level 1's, most of it from the flanks
+    (studies.convergence.driver_sizes):
     the run's moments differ from level 0's but stay within that step's size."""
     from meshing.sizing import LEVELS
 

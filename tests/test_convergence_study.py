@@ -1,4 +1,4 @@
-"""The convergence study from its runs (postprocess.convergence_study, convergence_report) and
+"""The convergence study from its runs (studies.convergence.reduction, convergence_report) and
 the lookup of a summary's uncertainty (studies.uncertainty), on synthetic runs with known
 limits: no FE solve."""
 
@@ -11,8 +11,8 @@ import pytest
 from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, MeshingError, run_sizes, with_fillet, with_sizes
 from postprocess.convergence_record import missing_runs
-from postprocess.convergence_report import speed_error_chart, write_report
-from postprocess.convergence_study import (
+from studies.case_variants import coarse_root_fillets, global_root_stress
+from studies.convergence.reduction import (
     compare_runs,
     ladder,
     recommend,
@@ -20,7 +20,7 @@ from postprocess.convergence_study import (
     scalar_table,
     target,
 )
-from studies.case_variants import coarse_root_fillets, global_root_stress
+from studies.convergence.report import speed_error_chart, write_report
 from studies.files import read_json, write_json
 from studies.uncertainty import (
     RECORDS,
@@ -295,7 +295,7 @@ def test_chart_labels_the_minor_ticks_that_do_not_crowd():
     beyond two decades none."""
     from matplotlib.ticker import FormatStrFormatter
 
-    from postprocess.convergence_report import _minor_labels
+    from studies.convergence.report import _minor_labels
 
     fmt = FormatStrFormatter("%g")
     wide = _minor_labels(fmt, 1687.0 / 216.0)
@@ -385,7 +385,7 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     """make runs the ladders only where no record matches (--unless-recorded); a summary takes
     a record's ± when its results folder has no study, and says when the code has changed
     since the record was solved."""
-    from studies.convergence import record
+    from studies.convergence.driver import record
     from studies.provenance import code_hash
 
     table = scalar_table(ROWS)
@@ -444,7 +444,7 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     assert f"recorded {stored['recorded']['date']} on commit" in line
     assert "solved by other code than today's" in line
     # make's convergence-main: a matching record means nothing to run, nothing written
-    from studies.convergence import main
+    from studies.convergence.driver import main
 
     out = tmp_path / "out"
     argv = [
@@ -474,7 +474,7 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
 def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
     """--record writes what finished; a record missing a ladder run (a timeout) must not stop
     make's --unless-recorded from solving the ladder again, and says why."""
-    from studies.convergence import record
+    from studies.convergence.driver import record
 
     gb = load_study_case("1-GB")
     ladder = {"runs": ["L0P1", "L1P1", "L2P1"], "positions": 1, "split_root_stress": True}
@@ -520,7 +520,7 @@ def test_record_refuses_a_study_with_a_failed_run(tmp_path, monkeypatch, capsys)
     """--record of a study whose level-1 run timed out records nothing and says which run
     failed (exit 2); the study itself stays in the results; once the run finishes, the study
     is recorded."""
-    from studies import convergence
+    from studies.convergence import driver as convergence
     from studies.provenance import code_hash
 
     case = load_study_case("1-GB")
@@ -554,7 +554,7 @@ def test_a_study_without_the_run_of_the_level_does_not_stand_before_one_with_it(
     """A study of this machine by today's code whose level-1 run failed (its labels lack
     L1P1) gives no ± at level 1; a record that has the run is taken instead, not a silent
     'no uncertainty'."""
-    from studies.convergence import record
+    from studies.convergence.driver import record
     from studies.provenance import code_hash
 
     ga, gb = load_study_case("1-GA"), load_study_case("1-GB")
@@ -604,14 +604,14 @@ def test_the_recorded_ladders_match_their_cases(case):
 
 @pytest.mark.parametrize("case", ["1-GB", "2B-GA"])
 def test_a_record_holds_todays_reductions_of_its_runs(case, tmp_path):
-    """The reductions (postprocess.convergence, postprocess.convergence_study) are outside
+    """The reductions (studies.convergence.richardson, studies.convergence.reduction) are outside
     the source hash and applied again whenever a study is read; the record's stored scalars,
     recommendation and report must be what they give today, or the committed files say other
     numbers than the summaries print. Fails after a change to the reductions until
     ``python -m studies.convergence --reduce-records`` rewrites the records."""
     import json
 
-    from postprocess.convergence_study import reduce_study
+    from studies.convergence.reduction import reduce_study
 
     path = RECORDS / case / STUDY_FILE
     conv = read_json(path)
@@ -629,8 +629,8 @@ def test_a_record_holds_todays_reductions_of_its_runs(case, tmp_path):
 def test_reduce_records_rewrites_stale_reductions(tmp_path):
     """A record whose stored reductions are stale (a scalar's values edited after the
     reduction) is reduced again from its runs, and its report with it."""
-    from postprocess.convergence_study import reduce_study
-    from studies.convergence import reduce_records
+    from studies.convergence.driver import reduce_records
+    from studies.convergence.reduction import reduce_study
 
     rows = [{**r, "label": f"L{r['level']}P{r['degree']}"} for r in ROWS[:3]]
     match = {"gearset": "case1", "scene": "one_branch"}
@@ -672,7 +672,7 @@ def test_reduce_records_rewrites_stale_reductions(tmp_path):
     ],
 )
 def test_convergence_cli_refuses_bad_input(argv, message, capsys, tmp_path):
-    from studies.convergence import main
+    from studies.convergence.driver import main
 
     assert main([*argv, "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
@@ -684,7 +684,7 @@ def _stored_runs(folder, case, code: str, ooc: tuple[int, ...] = ()) -> None:
     """ROWS's ladder as finished runs of ``case`` solved by code ``code``, the levels
     ``ooc`` out of core; the others' keys as stored before the out-of-core option (no
     ``out_of_core`` entry)."""
-    from studies.convergence import _reuse_key
+    from studies.convergence.driver import _reuse_key
 
     (folder / "runs").mkdir(parents=True)
     for row in ROWS[:3]:
@@ -700,7 +700,7 @@ def test_reduce_only_reduces_stored_runs_of_other_code(tmp_path):
     """--reduce-only solves nothing: it reduces the stored runs of the same inputs, whatever
     code solved them, and the report names that code; a ladder run it does not find is an
     input error that writes nothing, and a run of other inputs is not taken."""
-    from studies.convergence import main
+    from studies.convergence.driver import main
 
     case = load_study_case("1-GB")
     folder = tmp_path / case.name
@@ -722,7 +722,7 @@ def test_an_out_of_core_run_is_reduced_only_as_one(tmp_path):
     """A run solved out of core is taken for a study that asks for that level out of core
     (its time and memory are on the chart), and not for one that asks for it in core; the
     runs stored before the option count as in core."""
-    from studies.convergence import main
+    from studies.convergence.driver import main
 
     case = load_study_case("1-GB")
     folder = tmp_path / case.name
@@ -735,9 +735,11 @@ def test_an_out_of_core_run_is_reduced_only_as_one(tmp_path):
 
 
 def test_failed_child_is_a_row_with_its_error():
-    from studies.position_runs import run_child
+    from studies.convergence.position_runs import run_child
 
-    row = run_child("studies.convergence", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120)
+    row = run_child(
+        "studies.convergence.driver", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120
+    )
     assert row["level"] == 0 and "exit code" in row["error"]
     assert any("no-such-case" in line for line in row["stderr_tail"])
 
@@ -745,10 +747,12 @@ def test_failed_child_is_a_row_with_its_error():
 def test_a_child_with_a_log_writes_its_stderr_there(tmp_path):
     """A ladder run's child writes its progress (a line per submodel) to runs/<run>.log as
     it runs; a failed one's row still holds the tail."""
-    from studies.position_runs import run_child
+    from studies.convergence.position_runs import run_child
 
     log = tmp_path / "L0P1.log"
-    row = run_child("studies.convergence", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120, log)
+    row = run_child(
+        "studies.convergence.driver", ["--one", "no-such-case", "0", "1", "1"], 0, 1, 120, log
+    )
     assert "no-such-case" in log.read_text()
     assert any("no-such-case" in line for line in row["stderr_tail"])
 
@@ -756,7 +760,7 @@ def test_a_child_with_a_log_writes_its_stderr_there(tmp_path):
 def test_only_an_in_core_extra_run_waits_for_free_memory(tmp_path, monkeypatch):
     """An extra run (P2) is skipped when less memory is free than ``--min-free-gb``, unless it
     is solved out of core (a few GB whatever the level: 2B-GA's level-0 P2 peaked at 4.5)."""
-    from studies import convergence
+    from studies.convergence import driver as convergence
     from studies.provenance import code_hash
 
     case = load_study_case("1-GB")
@@ -791,7 +795,7 @@ def test_only_an_in_core_extra_run_waits_for_free_memory(tmp_path, monkeypatch):
 def test_a_killed_child_leaves_no_factor_files(tmp_path, monkeypatch):
     """A child's out-of-core folder is its own and is removed when the child ends, also when
     the timeout kills it (its factor files would otherwise stay: tens of GB at level 2)."""
-    from studies.position_runs import run_child
+    from studies.convergence.position_runs import run_child
 
     (tmp_path / "oocwriter.py").write_text(
         "import os, pathlib, time\n"
@@ -863,7 +867,7 @@ def _separable(h: float, f: float) -> float:
 
 def _split_rows(extras: bool = True, case_level: int = 1) -> list[dict]:
     """Ladder runs at levels 0-2, each on its own sector (meshing.submodel.submodel_level),
-    with the extra submodel readings of studies.convergence.submodel_levels for a case at
+    with the extra submodel readings of studies.convergence.driver.submodel_levels for a case at
     ``case_level``: its run on two other sectors (level 1: the two finer ones; level 2: one
     finer, one coarser), the others on the case's."""
     from meshing.submodel import submodel_level
@@ -1005,7 +1009,7 @@ def test_report_prints_both_ladders(tmp_path):
 
 def test_the_ladder_runs_read_the_two_submodel_ladders():
     from meshing.submodel import submodel_level
-    from studies.convergence import submodel_levels
+    from studies.convergence.driver import submodel_levels
 
     study = load_study_case("1-GB")  # level 1: its sector at level 2's sizes, 0.15 mm
     assert study.model.level == 1
@@ -1179,7 +1183,7 @@ def test_a_two_level_study_assumes_the_formal_order_of_where_a_stress_is_read():
 
 def test_compare_runs_counts_the_scalars_the_same_to_the_bit():
     from postprocess.convergence_record import reproduction_text
-    from postprocess.convergence_study import compare_runs
+    from studies.convergence.reduction import compare_runs
 
     a = {
         "scalars": {"My_pin": 40.0, "Mz_pin": 3e-13, "ZS": None},
@@ -1237,9 +1241,9 @@ def test_reproduce_solves_a_recorded_run_again_and_the_summary_quotes_it(
     hidden; a record of other inputs or without the run is refused."""
     import shutil
 
-    import studies.convergence as conv_mod
+    import studies.convergence.driver as conv_mod
     from postprocess.convergence_record import uncertainty_note
-    from studies.convergence import main
+    from studies.convergence.driver import main
     from studies.provenance import code_hash
 
     case = load_study_case("1-GB")
@@ -1312,8 +1316,8 @@ def test_add_to_record_solves_an_off_ladder_run_and_the_record_stands_for_it(
     solved and adds it: the record's runs, its ladder (so a make asking for the same extra
     finds it), the codes of its runs, the verdict and the report; a failed run adds nothing
     (exit 1); a ladder run or a bad run is refused (exit 2)."""
-    import studies.convergence as conv_mod
-    from studies.convergence import main
+    import studies.convergence.driver as conv_mod
+    from studies.convergence.driver import main
     from studies.provenance import code_hash
 
     case = load_study_case("1-GB")

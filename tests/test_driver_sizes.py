@@ -1,5 +1,6 @@
-"""The driver-size diagnostic (studies.driver_sizes): its variants change the sizes they name
-and no other, and its report gives each change from base and its share of the whole step."""
+"""The driver-size diagnostic (studies.convergence.driver_sizes): its variants change the sizes
+they name and no other, and its report gives each change from base and its share of the whole
+step."""
 
 from dataclasses import asdict
 from pathlib import Path
@@ -9,7 +10,7 @@ import pytest
 
 from meshing.sizing import LEVELS
 from studies.cli import InputError
-from studies.driver_sizes import VARIANTS, report, run, variant_mesh
+from studies.convergence.driver_sizes import VARIANTS, report, run, variant_mesh
 
 #: the Level fields (and "grid", the contact grid spacing) each variant takes from level L + 1
 CHANGED = {
@@ -95,7 +96,7 @@ def test_bad_input_names_the_option(kw, field, tmp_path: Path):
 
 
 def test_a_variant_row_holds_the_paper_moments_and_the_read_stresses(monkeypatch):
-    import studies.driver_sizes as ds
+    import studies.convergence.driver_sizes as ds
 
     seen = {}
 

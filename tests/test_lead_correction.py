@@ -15,9 +15,9 @@ from cases.gearset import load_gearset, parse_gearset
 from cases.study_case import load_study_case
 from gears.microgeometry import FlankModifications
 from gears.spec import GeometryError
-from postprocess import lead_correction as lc
-from studies import lead_correction as study_lc
 from studies.case_variants import global_root_stress
+from studies.lead_correction import driver as study_lc
+from studies.lead_correction import report as lc
 
 CASE1 = load_gearset("case1")
 

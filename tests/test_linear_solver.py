@@ -137,7 +137,7 @@ def test_out_of_core_on_two_ranks_gives_the_serial_answer(tmp_path_factory, monk
 
 
 def test_bench_runs_the_lu_out_of_core_as_a_solver():
-    from studies.bench_linear import _solver_numerics, _tolerance
+    from studies.benchmarks.linear import _solver_numerics, _tolerance
 
     num = _solver_numerics("mumps-blr+ooc", {"mumps-blr": 1e-7})
     assert num == {"linear_solver": "mumps-blr", "linear_tolerance": 1e-7, "out_of_core": True}
@@ -146,7 +146,7 @@ def test_bench_runs_the_lu_out_of_core_as_a_solver():
 
 
 def test_bench_refuses_an_iterative_solver_out_of_core(capsys, tmp_path):
-    from studies.bench_linear import main
+    from studies.benchmarks.linear import main
 
     with pytest.raises(SystemExit) as stop:  # argparse's usage error
         main(["--solvers", "cg-gamg+ooc", "--out", str(tmp_path)])
@@ -229,7 +229,7 @@ def test_cg_gamg_on_two_ranks_gives_the_exact_solution():
 
 
 def test_bench_reports_changes_above_the_noise_floor():
-    from studies.bench_linear import _changes
+    from studies.benchmarks.linear import _changes
 
     ref = {
         "scalars": {
@@ -253,7 +253,7 @@ def test_bench_reports_changes_above_the_noise_floor():
 def test_bench_reports_a_double_pinion_case():
     """The moments of a double-pinion case (My_SP, M_LOA_RP_ring, ...) are found by kind, not
     by a single-pinion name list (the 2B-GA bench once stopped on an empty list)."""
-    from studies.bench_linear import _changes, _md
+    from studies.benchmarks.linear import _changes, _md
 
     ref = {
         "scalars": {
@@ -300,7 +300,7 @@ def test_bench_reports_a_double_pinion_case():
     ],
 )
 def test_bench_refuses_bad_input_before_any_run(argv, words, capsys, tmp_path):
-    from studies.bench_linear import main
+    from studies.benchmarks.linear import main
 
     assert main([*argv, "--out", str(tmp_path)]) == 2
     assert words in capsys.readouterr().err

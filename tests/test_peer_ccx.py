@@ -10,8 +10,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from postprocess import peer_ccx as P
-from studies.bench_peer import _centroid_split
+from studies.peer import ccx as P
+from studies.peer.driver import _centroid_split
 
 
 def _cube_body(name: str, shift=0.0) -> P.Body:
@@ -283,7 +283,7 @@ def test_ccx_root_stress_reads_a_field_as_our_own_routine_does():
     from meshing.scene_bodies import load_body_meshes
     from solvers import root_stress as RS
     from solvers.elastic_body import Material
-    from studies.bench_peer import build_deck, ccx_root_stress
+    from studies.peer.driver import build_deck, ccx_root_stress
 
     def u_scene(x):  # (n, 3) scene-frame points -> (n, 3) displacement, mm
         return 1e-5 * np.c_[x[:, 0] ** 2, x[:, 0] * x[:, 1], 0.5 * x[:, 1] ** 2 + x[:, 2] ** 2]

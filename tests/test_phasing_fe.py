@@ -1,4 +1,4 @@
-"""Planet phasing from the all-planet FE (studies.phasing, postprocess.phasing_fe) and the
+"""Planet phasing from the all-planet FE (studies.phasing.driver, studies.phasing.fe) and the
 ``planet_angles_deg`` option of the all-planet scene."""
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from cases.gearset import GEARSET_DIR, load_gearset
 from cases.study_case import load_study_case
 from meshing.scenes import build_scene
 from meshing.sizing import MeshingError
-from postprocess import phasing_fe as pf
 from solvers.body_store import BodyStore
-from studies.phasing import planet_angles
+from studies.phasing import fe as pf
+from studies.phasing.driver import planet_angles
 from studies.position import solve_position
 from studies.settings import RunSettings
 
@@ -113,7 +113,8 @@ def test_three_planets_cancel_the_first_harmonic_of_the_net_sun_force(three_plan
 
 def test_the_case_section_names_the_sizes_solved():
     """A phasing case solved at its case file's sizes (another level's flanks and fillets,
-    studies.phasing records them in its inputs) says so; a level's own sizes read as before."""
+    studies.phasing.driver records them in its inputs) says so; a level's own sizes read as
+    before."""
     res = {
         "harmonics": [],
         "planets": 3,

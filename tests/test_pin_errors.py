@@ -1,4 +1,4 @@
-"""The pin-error study (studies.pin_errors): its input checks, its report, and the sign and
+"""The pin-error study (studies.pin_errors.driver): its input checks, its report, and the sign and
 linearity of a pin-hole error's effect on the load shares and the most loaded planet's root
 stress in the system scene (1-GB, level 0, one position, sun on a 1e6 N/mm support)."""
 
@@ -10,8 +10,8 @@ import json
 import pytest
 from mpi4py import MPI
 
-from postprocess.system_report import _pin_error_reading, _pin_error_table, root_stress_ratios
-from studies import pin_errors
+from studies.paper.system_report import _pin_error_reading, _pin_error_table, root_stress_ratios
+from studies.pin_errors import driver as pin_errors
 
 
 @pytest.mark.parametrize(

@@ -39,12 +39,12 @@ def test_the_solver_path_is_covered_and_the_reports_are_not():
     # reports, and the reductions of a ladder of runs (applied again to the records' runs by
     # python -m studies.convergence --reduce-records): a fix to them keeps the records' runs
     reports = (
-        "postprocess.convergence",
-        "postprocess.convergence_study",
-        "postprocess.case1_report",
-        "postprocess.convergence_report",
+        "studies.convergence.richardson",
+        "studies.convergence.reduction",
+        "studies.paper.case1_report",
+        "studies.convergence.report",
         "postprocess.flank_pictures",
-        "studies.bench_submodel",
+        "studies.benchmarks.submodel",
         "studies.cli",
     )
     for name in reports:
@@ -105,7 +105,7 @@ def test_the_hash_follows_a_covered_module_and_ignores_a_report(tmp_path, monkey
 
     try:
         base = fresh_hash()
-        report = tmp_path / "postprocess" / "case1_report.py"
+        report = tmp_path / "studies" / "paper" / "case1_report.py"
         report.write_text(report.read_text() + "\n# a report edit\n")
         assert fresh_hash() == base
         solver = tmp_path / "solvers" / "root_submodel.py"

@@ -1,5 +1,5 @@
-"""Radial mesh stiffness from the FE contact solve (studies.radial_stiffness) and the
-floating-sun models built on it (postprocess.radial_stiffness_fe)."""
+"""Radial mesh stiffness from the FE contact solve (studies.radial_stiffness.driver) and the
+floating-sun models built on it (studies.radial_stiffness.fe)."""
 
 from __future__ import annotations
 
@@ -11,10 +11,10 @@ from mpi4py import MPI
 
 from cases.study_case import load_study_case
 from gears.analytic import radial_stiffness as rs
-from postprocess import radial_stiffness_fe as rf
 from solvers.body_store import BodyStore
 from studies.case_variants import global_root_stress
-from studies.radial_stiffness import (
+from studies.radial_stiffness import fe as rf
+from studies.radial_stiffness.driver import (
     K_R_FROM,
     main,
     normal_backlash_um,
@@ -31,7 +31,7 @@ def case():
     forces along the exact plane of action, which the line grid's points carry; a zone
     grid's cells off the line carry turned normals and add their own share (level 0:
     -854.7 against -761.4 N/mm at the external mesh, h = 5 um; the report splits it,
-    postprocess.radial_stiffness_fe.checks). The root stress is not read here: on the global
+    studies.radial_stiffness.fe.checks). The root stress is not read here: on the global
     model (studies/case_variants.py)."""
     import dataclasses
 

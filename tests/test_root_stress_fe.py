@@ -98,7 +98,7 @@ def test_root_stress_parallel_equals_serial():
     parallel solve's round-off (the moments of the same runs agree to 1e-6,
     tests/test_gear_branch.py); the submodels' to 5e-4: their CG stops at a relative
     residual of 1e-6 (SUBMODEL_CG_RTOL), within 1.3e-4 of the exact solve on 1-GB's level-1
-    sectors (studies.bench_submodel; 5e-4 allowed in tests/test_root_submodel.py), and the
+    sectors (studies.benchmarks.submodel; 5e-4 allowed in tests/test_root_submodel.py), and the
     serial and parallel AMG hierarchies differ, so each run is that close to the exact
     value, not to the other run (measured 5e-5 and 6e-5 between 2 ranks and serial)."""
     case = load_study_case("1-GA")

@@ -1,6 +1,6 @@
-"""The fillet study's table (postprocess.fillet_study) on made-up runs with a known limit."""
+"""The fillet study's table (studies.fillet.report) on made-up runs with a known limit."""
 
-from postprocess.fillet_study import extrapolate, fillet_table
+from studies.fillet.report import extrapolate, fillet_table
 
 
 def _row(h, f):

@@ -1,7 +1,7 @@
-"""The scatter of a root stress between equally valid sectors (postprocess.sector_scatter) puts
-a floor under the sector part of its U (postprocess.convergence_study.root_stress_split), and
-studies.sector_scatter keeps it with a convergence record only for the record's inputs, case
-level and position. Nothing here solves anything."""
+"""The scatter of a root stress between equally valid sectors (studies.convergence.scatter) puts
+a floor under the sector part of its U (studies.convergence.reduction.root_stress_split), and
+studies.convergence.sector_scatter keeps it with a convergence record only for the record's inputs,
+case level and position. Nothing here solves anything."""
 
 import shutil
 
@@ -10,18 +10,18 @@ import pytest
 from cases.study_case import inputs_hash, load_study_case, without_variant
 from meshing.sizing import LEVELS
 from meshing.submodel import submodel_level
-from postprocess.convergence_study import reduce_study, scalar_table
-from postprocess.sector_scatter import (
+from studies.cli import EXIT_INVALID_INPUT
+from studies.convergence.driver import reduce_records
+from studies.convergence.reduction import reduce_study, scalar_table
+from studies.convergence.scatter import (
     carried_scatter,
     case_level_inputs,
     other_size_spreads,
     scatter_floors,
     spread,
 )
-from studies.cli import EXIT_INVALID_INPUT
-from studies.convergence import reduce_records
+from studies.convergence.sector_scatter import main, record_scatter
 from studies.files import read_json, write_json
-from studies.sector_scatter import main, record_scatter
 from studies.uncertainty import RECORDS
 
 
@@ -254,7 +254,7 @@ def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
     scatter measured on the same inputs and case level: the record before 2026-11-30 lost
     it, and with it the floor under its root stresses' sector U, with nothing to show why
     but a smaller ±."""
-    from studies.convergence import record
+    from studies.convergence.driver import record
 
     records = tmp_path / "records"
     shutil.copytree(RECORDS / "1-GB", records / "1-GB")
@@ -319,7 +319,7 @@ def test_the_case_level_inputs_are_the_ladder_runs_not_the_runs_off_it():
 def test_a_record_replacing_an_unreadable_one_carries_nothing_and_says_so(tmp_path, capsys):
     """A damaged record file does not stop a ladder's new record after hours of solving
     (before: exit 3 after the ladder); it carries no scatter and says so."""
-    from studies.convergence import record
+    from studies.convergence.driver import record
 
     records = tmp_path / "records"
     shutil.copytree(RECORDS / "1-GB", records / "1-GB")
@@ -337,10 +337,10 @@ def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path
     """make sector-scatter keeps the scatter with the record; the same ladder's study under
     this machine's results (the same runs, so solved by the same code) stands before the
     record in the ± lookup, which reads a study as written, so it must carry the floor when
-    it is written (after the record's scatter: studies.convergence.with_recorded_scatter) and
-    when the scatter is kept after it (studies.sector_scatter.carry_to_this_machine)."""
-    from studies.convergence import with_recorded_scatter
-    from studies.sector_scatter import carry_to_this_machine
+    it is written (after the record's scatter: studies.convergence.driver.with_recorded_scatter) and
+    when the scatter is kept after it (studies.convergence.sector_scatter.carry_to_this_machine)."""
+    from studies.convergence.driver import with_recorded_scatter
+    from studies.convergence.sector_scatter import carry_to_this_machine
     from studies.uncertainty import summary_uncertainty
 
     records, results = tmp_path / "records", tmp_path / "results"

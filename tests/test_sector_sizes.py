@@ -1,5 +1,5 @@
-"""The sector-size diagnostic (studies.sector_sizes): its variants are the sizes they name,
-its defaults separate the read fillet's ladder from the other sizes, and its report gives
+"""The sector-size diagnostic (studies.convergence.sector_sizes): its variants are the sizes they
+name, its defaults separate the read fillet's ladder from the other sizes, and its report gives
 each change, the other sizes' spread at one fillet size and the driver check."""
 
 from dataclasses import replace
@@ -12,7 +12,13 @@ import meshing.submodel as submodel
 from meshing.sizing import LEVELS
 from meshing.submodel import SUBMODEL_FILLET
 from studies.cli import InputError
-from studies.sector_sizes import default_variants, fillet_ladders, report, run, variant_sizes
+from studies.convergence.sector_sizes import (
+    default_variants,
+    fillet_ladders,
+    report,
+    run,
+    variant_sizes,
+)
 
 
 def test_a_variant_is_level_k_with_the_read_fillet_f():
@@ -112,7 +118,7 @@ def test_report_with_one_set_of_sizes_per_fillet_says_so():
 
 
 def test_a_variant_row_reads_the_variant_sector_on_the_case_level(monkeypatch):
-    import studies.sector_sizes as ss
+    import studies.convergence.sector_sizes as ss
 
     seen = {}
 

@@ -177,7 +177,7 @@ def test_failed_position_keeps_finished_ones(study, monkeypatch, tmp_path):
     assert kept["failed_positions"][0]["position"] == 1
     assert "did not converge" in kept["failed_positions"][0]["error"]
     # the case report says so beside its values, which are over the finished position only
-    from postprocess.case1_report import write_report
+    from studies.paper.case1_report import write_report
 
     text = write_report(tmp_path).read_text()
     # the second of two (stored from 0, named from 1 as in the run's log)
@@ -201,7 +201,7 @@ def test_a_failed_first_position_leaves_the_others_named_by_their_cycle_index(
 
 
 def test_case1_report(study):
-    from postprocess.case1_report import write_report
+    from studies.paper.case1_report import write_report
 
     out, summary = study
     text = write_report(out).read_text()

@@ -193,7 +193,7 @@ def test_system_scene_parallel_equals_serial(monkeypatch):
     level 0 (sun_pinion2_side 775.55 against 776.37 MPa, 2026-11-29, GAMG threshold 0), so
     a comparison there measures where CG stops, not the parallel reading. At 1e-9 (1e-8
     moved 1-GB's level-1 values by at most 4.1e-6 against 1e-10 at threshold 0,
-    studies.bench_submodel of 2026-11-29) 1e-4 is a wide margin."""
+    studies.benchmarks.submodel of 2026-11-29) 1e-4 is a wide margin."""
     monkeypatch.setattr(root_submodel, "SUBMODEL_CG_RTOL", 1e-9)
     study = as_system(load_study_case("1-GB"))
     par = solve_position(study, 0.0, MPI.COMM_WORLD, RunSettings(level=0))

@@ -1,14 +1,15 @@
-"""The diagnostics that solve named variants in one process (studies.driver_sizes,
-studies.sector_sizes, through studies.variant_file) keep a finished variant only while the
-case's inputs and the source are those it was solved with, and write their report beside it."""
+"""The diagnostics that solve named variants in one process (studies.convergence.driver_sizes,
+studies.convergence.sector_sizes, through studies.convergence.variant_file) keep a finished variant
+only while the case's inputs and the source are those it was solved with, and write their report
+beside it."""
 
 from types import SimpleNamespace
 
 import pytest
 
-import studies.driver_sizes as ds
-import studies.sector_sizes as ss
-import studies.variant_file as variant_file
+import studies.convergence.driver_sizes as ds
+import studies.convergence.sector_sizes as ss
+import studies.convergence.variant_file as variant_file
 from studies.files import ResultFileError, read_json
 
 

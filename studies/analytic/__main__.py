@@ -1,0 +1,7 @@
+"""``python -m studies.analytic``: :func:`studies.analytic.driver.main`."""
+
+import sys
+
+from studies.analytic.driver import main
+
+sys.exit(main())

@@ -1,0 +1,1 @@
+"""Benchmarks: time and memory of the pipeline's stages, written to files."""
