@@ -115,7 +115,6 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from cases.study_case import DEFAULTS
 from solvers.contact_grid import ContactGrid, ZoneLink
 from solvers.elastic_body import ElasticBody
 from solvers.errors import (
@@ -258,9 +257,10 @@ class ContactProblem:
         pairs: Sequence[ContactPair],
         rigid_unknowns: Sequence[RigidUnknown] = (),
         springs: Sequence[Spring] = (),
+        *,
+        penalty_factor: float,
         obstacles: Sequence[str] = (),
         blocks: Sequence[StiffnessBlock] = (),
-        penalty_factor: float = DEFAULTS.penalty_factor,
         block_size: int | None = None,
         eager: bool = False,
     ):

@@ -40,7 +40,6 @@ cases, the largest code of any case.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import os
 import shutil
 import sys
@@ -87,7 +86,7 @@ from studies.position import check_root_stress, roll_angles, solve_position, stu
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
 from studies.ranks import Ranks
-from studies.settings import RunSettings
+from studies.settings import CaseOptions, RunSettings
 from studies.uncertainty import summary_uncertainty
 
 # What a finished position file must hold to be reused (beyond the paper's scalars of its
@@ -132,25 +131,6 @@ def _finished(path: Path, key: dict, study: StudyCase, progress: Progress) -> di
     return old
 
 
-def _checked_settings(study: StudyCase, level, positions) -> RunSettings:
-    """The run's settings (the case file's unless given; a level given is that level's own
-    sizes, :meth:`studies.settings.RunSettings.resolved`), checked:
-    :class:`~studies.cli.InputError` names the option and what is allowed."""
-    try:
-        sizing.check_level(level if level is not None else study.model.level)
-    except ValueError as exc:
-        raise InputError(f"{study.name}: {exc} (option --level)") from exc
-    n_pos = positions
-    if n_pos is not None and (
-        isinstance(n_pos, bool) or not isinstance(n_pos, int) or not 1 <= n_pos <= MAX_POSITIONS
-    ):
-        raise InputError(
-            f"{study.name}: --positions {n_pos!r}: must be an integer from 1 to "
-            f"{MAX_POSITIONS} (mesh positions over one base pitch)"
-        )
-    return RunSettings(level=level, positions=positions).resolved(study)
-
-
 def _output_folder(study: StudyCase, out_root: Path) -> Path:
     """``<out_root>/<case name>``, refused unless the name makes a folder inside ``out_root``
     (the case loader already refuses such names; this guards the driver). The path is
@@ -183,57 +163,29 @@ def _check_mesh_cache() -> None:
 def run_study(
     name_or_path: str | Path,
     out_root: Path = Path("results"),
-    level: int | None = None,
-    positions: int | None = None,
     comm: MPI.Comm = MPI.COMM_WORLD,
+    *,
+    options: CaseOptions | None = None,
     progress: Progress | None = None,
     ranks: Ranks | None = None,
     store: BodyStore | None = None,
-    scene: str | None = None,
-    root_fillets: str | None = None,
-    out_of_core: bool | None = None,
 ) -> dict:
     """Solve every position (reusing finished ones), then write summary.json and the pictures.
     Returns the summary (on every rank). Raises :class:`~studies.cli.StudyFailed` after
     writing what finished if a position failed, the input errors of
     :data:`~studies.cli.INPUT_ERRORS` before anything is solved, and
     :class:`~studies.files.ResultFileError` when a result cannot be written (every rank
-    raises the same error). ``ranks``: the failure agreement of ``comm`` (made here if not
-    given; it is collective to make, so a caller running several studies makes it once).
-    ``store``: the bodies kept across positions and cases (factorized once; default: kept
-    for this study's positions); ``scene``: solve in this scene instead of the case's
-    ``model.scene`` (recorded in the summary's inputs); ``root_fillets``: instead of the
-    case's ``numerics.root_fillets`` (recorded the same way); ``out_of_core``: instead of the
-    case's ``numerics.out_of_core`` (the LU factors on disk: the same answer to round-off,
-    not an input)."""
+    raises the same error). ``options``: what the run asks beyond the case file
+    (:class:`studies.settings.CaseOptions`: level, positions, scene, root fillets, out of
+    core; a scene, root fillets or out of core given is recorded in the summary's inputs).
+    ``ranks``: the failure agreement of ``comm`` (made here if not given; it is collective
+    to make, so a caller running several studies makes it once). ``store``: the bodies kept
+    across positions and cases (factorized once; default: kept for this study's
+    positions)."""
     progress = Progress(comm) if progress is None else progress
-    study = load_study_case(name_or_path)
-    if scene is not None:
-        if scene not in SCENES:
-            raise InputError(f"scene = {scene!r}: must be one of {', '.join(SCENES)}")
-        study = dataclasses.replace(study, model=dataclasses.replace(study.model, scene=scene))
-    if root_fillets is not None:
-        if root_fillets not in ROOT_FILLETS:
-            raise InputError(
-                f"root_fillets = {root_fillets!r}: must be one of {', '.join(ROOT_FILLETS)}"
-            )
-        study = dataclasses.replace(
-            study, numerics=dataclasses.replace(study.numerics, root_fillets=root_fillets)
-        )
-    if out_of_core is not None:
-        study = dataclasses.replace(
-            study, numerics=dataclasses.replace(study.numerics, out_of_core=bool(out_of_core))
-        )
+    options = CaseOptions() if options is None else options
+    study, settings = options.applied(load_study_case(name_or_path))
     store = BodyStore() if store is None else store
-    given = level is not None
-    settings = _checked_settings(study, level, positions)
-    # the summary's inputs (and their hash) say which sizes run: a level given, its own ones
-    # (the number of positions stays the case's: a position is keyed by its roll)
-    if given:
-        model = dataclasses.replace(
-            study.model, level=settings.level, flank_level=None, fillet_level=None
-        )
-        study = dataclasses.replace(study, model=model)
     out = _output_folder(study, out_root)
     try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
         scene = study_scene(study, 0.0)
@@ -574,18 +526,15 @@ def run_case(
     (every rank agrees on the outcome first, so none goes on alone)."""
     failure = None
     try:
+        options = CaseOptions(
+            level=args.level,
+            positions=args.positions,
+            scene=args.scene,
+            root_fillets=args.root_fillets,
+            out_of_core=args.out_of_core,
+        )
         run_study(
-            name,
-            args.out,
-            args.level,
-            args.positions,
-            comm,
-            progress,
-            ranks,
-            store,
-            args.scene,
-            args.root_fillets,
-            args.out_of_core,
+            name, args.out, comm, options=options, progress=progress, ranks=ranks, store=store
         )
     except KeyboardInterrupt:
         progress.error(f"{name}: interrupted; finished positions are kept")

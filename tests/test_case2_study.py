@@ -28,7 +28,7 @@ from studies.case_variants import global_root_stress
 from studies.paper.case2_report import collinear_check, planetary_input, write_report
 from studies.position import cycle_sector_teeth, solve_position
 from studies.progress import Progress
-from studies.settings import RunSettings
+from studies.settings import CaseOptions, RunSettings
 
 GEARSETS = CASE_DIR / "gearsets"
 TORQUE = 1000.0  # N m on the sun: the user's own load, not the paper's 1378.7
@@ -93,7 +93,7 @@ def double(tmp_path_factory, store):
 @pytest.fixture(scope="module")
 def ga(tmp_path_factory, store):
     out = tmp_path_factory.mktemp("ga")
-    return out, _run("2B-GA", out, store, level=0, positions=2)
+    return out, _run("2B-GA", out, store, options=CaseOptions(level=0, positions=2))
 
 
 def _artefacts(folder: Path) -> set[str]:

@@ -20,6 +20,7 @@ from studies.files import write_json
 from studies.paper.case1_report import write_report
 from studies.progress import Progress
 from studies.provenance import code_hash
+from studies.settings import CaseOptions
 from studies.uncertainty import STUDY_FILE, match_key
 
 
@@ -63,7 +64,9 @@ def level0(tmp_path_factory):
     progress = Progress(out=io.StringIO(), err=io.StringIO(), quiet=True)
     stray = io.StringIO()  # what the solve itself writes to the process's stderr
     with contextlib.redirect_stderr(stray):
-        summary = study_run.run_study("1-GA", out, level=0, positions=1, progress=progress)
+        summary = study_run.run_study(
+            "1-GA", out, options=CaseOptions(level=0, positions=1), progress=progress
+        )
     return out, summary, row, table, stray.getvalue()
 
 

@@ -42,3 +42,32 @@ def test_explicit_sizes_for_a_size_diagnostic():
     sizes = dataclasses.replace(LEVELS[0], fine=0.5)
     run = RunSettings(level=sizes).resolved(GB)
     assert run.sizes == sizes and run.spacing == 0.5
+
+
+def test_case_options_change_the_case_as_solved_and_name_a_bad_option():
+    """CaseOptions (planetary-fe run's options) are applied in one place: a level given drops
+    the case's flank and fillet levels from the inputs (the summary's inputs say which sizes
+    ran), a scene, root fillets or out of core replaces the case's, and a bad value is an
+    InputError naming the option and what is allowed."""
+    import pytest
+
+    from studies.cli import InputError
+    from studies.settings import CaseOptions
+
+    study, run = CaseOptions().applied(GB)
+    assert study == GB and run == RunSettings().resolved(GB)
+    study, run = CaseOptions(level=0, positions=2, scene="system", out_of_core=True).applied(GB)
+    assert (study.model.level, study.model.flank_level, study.model.fillet_level) == (0, None, None)
+    assert (study.model.scene, study.numerics.out_of_core) == ("system", True)
+    assert (run.label, run.positions) == ("L0P1", 2)
+    assert study.model.positions == GB.model.positions  # a position is keyed by its roll
+    assert CaseOptions(root_fillets="coarse").applied(GB)[0].numerics.root_fillets == "coarse"
+    for options, words in (
+        (CaseOptions(level=9), "--level"),
+        (CaseOptions(positions=0), "--positions 0: must be an integer from 1 to"),
+        (CaseOptions(positions=True), "--positions True"),
+        (CaseOptions(scene="planet"), "scene = 'planet': must be one of"),
+        (CaseOptions(root_fillets="fine"), "root_fillets = 'fine': must be one of"),
+    ):
+        with pytest.raises(InputError, match=words):
+            options.applied(GB)

@@ -16,7 +16,7 @@ from gears.contact_stress import iso6336_pitch_contact_stress
 from gears.units import n_mm
 from studies import run as study_run
 from studies.progress import Progress
-from studies.settings import RunSettings
+from studies.settings import CaseOptions, RunSettings
 
 N_POS = 2
 # what the module's study printed on stderr (warnings), filled by the fixture
@@ -27,7 +27,9 @@ STDERR = io.StringIO()
 def study(tmp_path_factory):
     out = tmp_path_factory.mktemp("results")
     progress = Progress(out=io.StringIO(), err=STDERR)
-    summary = study_run.run_study("1-GA", out, level=0, positions=N_POS, progress=progress)
+    summary = study_run.run_study(
+        "1-GA", out, options=CaseOptions(level=0, positions=N_POS), progress=progress
+    )
     return out, summary
 
 
@@ -122,7 +124,7 @@ def test_restart_reuses_finished_positions(study, monkeypatch):
         raise AssertionError("a finished position was solved again")
 
     monkeypatch.setattr(study_run, "solve_position", must_not_run)
-    again = study_run.run_study("1-GA", out, level=0, positions=N_POS)
+    again = study_run.run_study("1-GA", out, options=CaseOptions(level=0, positions=N_POS))
     assert again["My_pin"] == summary["My_pin"]
     assert again["positions_reused"] == list(range(N_POS))
 
@@ -145,10 +147,12 @@ def test_changed_inputs_are_solved_again(study, monkeypatch, tmp_path):
         raise RuntimeError("solver stubbed (test)")
 
     monkeypatch.setattr(study_run, "solve_position", stub)
-    again = study_run.run_study(case.path, results, level=0, positions=N_POS)  # unchanged
+    again = study_run.run_study(
+        case.path, results, options=CaseOptions(level=0, positions=N_POS)
+    )  # unchanged
     assert calls == [] and again["positions_reused"] == list(range(N_POS))
     with pytest.raises(RuntimeError, match="2 of 2 positions failed"):
-        study_run.run_study(edited, results, level=0, positions=N_POS)
+        study_run.run_study(edited, results, options=CaseOptions(level=0, positions=N_POS))
     assert [c[0] for c in calls] == [8.80e7, 8.80e7]
 
 
@@ -166,7 +170,7 @@ def _lose_all_but(kept: int, out: Path, tmp_path: Path, monkeypatch) -> dict:
 
     monkeypatch.setattr(study_run, "solve_position", fail)
     with pytest.raises(RuntimeError, match="1 of 2 positions failed"):
-        study_run.run_study("1-GA", tmp_path, level=0, positions=N_POS)
+        study_run.run_study("1-GA", tmp_path, options=CaseOptions(level=0, positions=N_POS))
     return json.loads((tmp_path / "1-GA" / "summary.json").read_text())
 
 

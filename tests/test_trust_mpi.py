@@ -22,6 +22,7 @@ from test_trust_driver import Stub
 from studies import run as study_run
 from studies.cli import StudyFailed
 from studies.files import ResultFileError
+from studies.settings import CaseOptions
 
 COMM = MPI.COMM_WORLD
 # Each test needs about a second (stubbed solves); 60 s means something waits for ever.
@@ -79,7 +80,9 @@ def test_rank0_disk_full_ends_every_rank(stub, shared_tmp, monkeypatch, deadline
     if COMM.rank == 0:
         monkeypatch.setattr(study_run, "write_json", full)
     with pytest.raises(ResultFileError) as err:
-        study_run.run_study("1-GA", shared_tmp / "out", level=0, positions=2, comm=COMM)
+        study_run.run_study(
+            "1-GA", shared_tmp / "out", options=CaseOptions(level=0, positions=2), comm=COMM
+        )
     text = _raised_everywhere(err.value)
     assert "No space left on device" in text and "positions/1.json" in text
     assert (stub.out / "positions" / "0.json").is_file()
@@ -92,7 +95,9 @@ def test_output_folder_is_a_file_on_every_rank(stub, shared_tmp, deadline):
         (shared_tmp / "out").write_text("a file")
     COMM.barrier()
     with pytest.raises(ResultFileError) as err:
-        study_run.run_study("1-GA", shared_tmp / "out", level=0, positions=1, comm=COMM)
+        study_run.run_study(
+            "1-GA", shared_tmp / "out", options=CaseOptions(level=0, positions=1), comm=COMM
+        )
     assert "is a file, not a folder" in _raised_everywhere(err.value)
     assert stub.rolls == []
 
@@ -105,7 +110,9 @@ def test_solve_error_on_one_rank_is_shared(stub, shared_tmp, deadline):
     if COMM.rank == COMM.size - 1:
         stub.fail_calls = {1}
     with pytest.raises(StudyFailed) as err:
-        study_run.run_study("1-GA", shared_tmp / "out", level=0, positions=2, comm=COMM)
+        study_run.run_study(
+            "1-GA", shared_tmp / "out", options=CaseOptions(level=0, positions=2), comm=COMM
+        )
     text = _raised_everywhere(err.value)
     assert "1 of 2 positions failed" in text and "active set did not converge" in text
     summary = json.loads((stub.out / "summary.json").read_text())

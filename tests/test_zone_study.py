@@ -26,6 +26,7 @@ from postprocess.paper_moments import contact_line_points
 from solvers.body_store import BodyStore
 from studies import run as study_run
 from studies.progress import Progress
+from studies.settings import CaseOptions
 
 MESHES = ("sun-pinion", "pinion-ring")
 STDERR = io.StringIO()
@@ -53,7 +54,11 @@ def runs(tmp_path_factory):
     for model, name in cases.items():
         progress = Progress(out=io.StringIO(), err=STDERR)
         summary = study_run.run_study(
-            name, out / model, level=0, positions=1, progress=progress, store=store
+            name,
+            out / model,
+            options=CaseOptions(level=0, positions=1),
+            progress=progress,
+            store=store,
         )
         pos = json.loads((out / model / "1-GA" / "positions" / "0.json").read_text())
         got[model] = (load_study_case(name), summary, pos, out / model / "1-GA")
