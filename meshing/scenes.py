@@ -34,7 +34,6 @@ from cases.gearset import first_overlap
 from cases.study_case import SCENES as SCENE_NAMES
 from gears.analytic.phasing import assemblable_angles, planet_layout
 from gears.layout import pinion_centres
-from meshing import tags as T
 from meshing.assemble import Placement
 from meshing.carrier import carrier_spec
 from meshing.gear_body import GearBody
@@ -122,15 +121,6 @@ class Scene:
             ],
             "carrier": self.carrier,
         }
-
-    def drive_flank_names(self) -> dict[str, list[str]]:
-        """Tag names of the drive flanks of the teeth in contact, per body."""
-        out: dict[str, list[str]] = {}
-        for zn in self.zones:
-            for body, side in ((zn.driver, zn.driver_side), (zn.driven, zn.driven_side)):
-                g = self.gear(body)
-                out.setdefault(body, []).extend(T.flank(body, k, side) for k in g.contact_teeth)
-        return out
 
     def report(self) -> dict:
         return {

@@ -141,17 +141,3 @@ def parse(name: str) -> ParsedName:
     if len(parts) == 2:
         return ParsedName(check_body_name(parts[0]), None, parts[1])
     raise ValueError(f"not a tag name: {name!r}")
-
-
-def body_of(name: str) -> str:
-    return parse(name).body
-
-
-def teeth_in(names, body: str) -> list[int]:
-    """Sorted tooth indices of ``body`` that have at least one named surface."""
-    found = set()
-    for n in names:
-        p = parse(n)
-        if p.body == body and p.tooth is not None:
-            found.add(p.tooth)
-    return sorted(found)

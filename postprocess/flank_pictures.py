@@ -359,18 +359,3 @@ def draw_flank_patterns(study, positions: list[dict], out_dir: Path, scenes=None
         f"the mesh cycle ({n} position{'s' if n != 1 else ''})"
     )
     return [_layout([(study.name, by_mesh)], Path(out_dir) / "flank_patterns.png", title)]
-
-
-def draw_pattern_panel(case_runs, out_png: Path) -> Path:
-    """Several cases side by side for a report, one row per case like singh2007's contact
-    pattern figures, one colour scale for all. ``case_runs``: (study, positions) or
-    (study, positions, scenes) per case, in row order."""
-    rows = []
-    for run in case_runs:
-        study, positions = run[0], run[1]
-        scenes = run[2] if len(run) > 2 else None
-        label = f"{study.name}" + (f": {study.description}" if study.description else "")
-        rows.append((label, _case_patterns(study, positions, scenes)))
-    what = "pressure" if any(_zoned(by_mesh) for _, by_mesh in rows) else "Hertz pressure"
-    title = f"Contact patterns on the drive flanks, maximum {what} over the mesh cycle"
-    return _layout(rows, Path(out_png), title)

@@ -34,13 +34,6 @@ def n_rigid(gdim: int) -> int:
     return 3 if gdim == 2 else 6
 
 
-def dof_names(gdim: int) -> list[str]:
-    """Names of the rigid DOFs in the order used everywhere in ``solvers``."""
-    if gdim == 2:
-        return ["translation 1", "translation 2", "rotation about z"]
-    return [f"translation {i}" for i in (1, 2, 3)] + [f"rotation about {i}" for i in (1, 2, 3)]
-
-
 def global_mode_names(gdim: int) -> list[str]:
     """Names of the global rigid modes (identity frame) in the order of :func:`rigid_modes`."""
     if gdim == 2:

@@ -283,9 +283,6 @@ def write_deck(path, deck: Deck) -> dict:
     return {"ref_nodes": refs, "surfaces": surfaces, "fe_nodes": nfe}
 
 
-_FLOAT = r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?"
-
-
 _DISP = re.compile(r"^\s*displacements \(vx,vy,vz\) for set (\S+) and time\s+(\S+)")
 _STATS = re.compile(r"^\s*statistics for slave set (\S+), master set (\S+) and time\s+(\S+)")
 
