@@ -181,8 +181,8 @@ def recovered_section(runs: dict[str, dict], keys, order) -> list[str]:
     """Markdown lines: the root stress's recovered reading (``bending_stress_recovered``,
     ``bending_stress_tangent_recovered``, ``bending_stress_recovered_at`` of the summaries;
     :mod:`solvers.surface_recovery`), the reported value, against ISO 6336-3 and the nodal
-    maxima of :func:`root_section`. Empty where no run has one (summaries of runs before
-    2026-11-30)."""
+    maxima of :func:`root_section`. Empty where no run has one (summaries written before the
+    recovery was added)."""
 
     def holds(s: dict) -> bool:
         return any(v is not None for v in (s.get("bending_stress_recovered") or {}).values())

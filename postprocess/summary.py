@@ -124,7 +124,7 @@ def cycle_bending(records: list[dict]) -> dict:
     value kept apart beside a contact point force (``bending_stress_near_load``), of the
     surface and ISO-line values of the moving least-squares recovery
     (``bending_stress_recovered``, ``bending_stress_tangent_recovered``,
-    :mod:`solvers.surface_recovery`; runs before 2026-11-30 have none), with
+    :mod:`solvers.surface_recovery`; older position files have none), with
     submodels (:mod:`solvers.root_submodel`) also of the global model's own surface value
     (``bending_stress_global``, a check), the method in words (``bending_stress_method``),
     and where the surface maximum sits (``bending_stress_at``: position index, roll, tooth,

@@ -93,9 +93,9 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
     """The record (its convergence.json) of a convergence study of ``study``'s match key
     run with ``ladder`` (levels, extra runs, positions, split root stress; what
     :mod:`studies.convergence.driver` writes as ``ladder``) and every run of it finished, or None.
-    A record with a failed run is not one (``--record`` refuses such a study since
-    2026-11-28; before, it wrote what finished): ``--unless-recorded`` would then never
-    solve the missing run; it is named on stdout."""
+    A record with a failed run is not one (``--record`` refuses such a study; an older
+    record may hold what finished): ``--unless-recorded`` would then never solve the
+    missing run; it is named on stdout."""
     if records is None:
         return None
     for path, conv in _studies(records, study.name, match_key(study)):
