@@ -211,6 +211,14 @@ bench-linear: $(STAMP) ### exact LU vs BLR vs CG/GAMG: results/bench/linear_solv
 bench-contact: $(STAMP) ### line vs zone contact model: results/bench/contact_grid.json
 	$(PY) -m studies.benchmarks.contact --out $(RESULTS)/bench --level 0
 
+# Keep benchmark files in the repository for the docs' performance page: BENCH names the files
+# of results/bench without their suffix (their .json, .md and .png are recorded together).
+BENCH ?=
+.PHONY: record-bench
+record-bench: $(STAMP) ### keep benchmark files for the docs: make record-bench BENCH="solver linear_solver"
+	@[ -n "$(BENCH)" ] || { echo "error: name the files: make record-bench BENCH=solver" >&2; exit 2; }
+	$(PY) -m studies.benchmarks.record $(foreach b,$(BENCH),$(wildcard $(RESULTS)/bench/$(b).json $(RESULTS)/bench/$(b).md $(RESULTS)/bench/$(b).png))
+
 # Convergence study of any case (issue 13): mesh levels 0 1 2 (P1) and level 0 with P2 (the p
 # step, skipped with a note when less than 16 GB are free: it peaks at ~14 GB), one mesh
 # position, each run in its own process (time, peak memory); Richardson extrapolation of every
