@@ -50,6 +50,7 @@ from pathlib import Path
 from mpi4py import MPI
 
 from cases.study_case import (
+    MAX_LEVEL,
     MAX_POSITIONS,
     ROOT_FILLETS,
     SCENES,
@@ -450,7 +451,7 @@ def parse_args(argv=None, prog: str = "python -m studies.run") -> argparse.Names
         "--level",
         type=int,
         default=None,
-        help=f"mesh level 0-{len(sizing.LEVELS) - 1} (default: the case's)",
+        help=f"mesh level 0-{MAX_LEVEL}, as the case file's [model] level (default: the case's)",
     )
     ap.add_argument(
         "--positions",

@@ -26,7 +26,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from cases.study_case import MAX_POSITIONS, ROOT_FILLETS, SCENES, StudyCase, case_sizes
+from cases.study_case import MAX_LEVEL, MAX_POSITIONS, ROOT_FILLETS, SCENES, StudyCase, case_sizes
 from meshing import sizing
 from meshing.sizing import Level
 from postprocess.run_scalars import run_label
@@ -135,10 +135,14 @@ class CaseOptions:
     def _settings(self, study: StudyCase) -> RunSettings:
         """The run's resolved settings, checked (the number of positions stays out of the
         inputs: a position is keyed by its roll)."""
-        try:
-            sizing.check_level(self.level if self.level is not None else study.model.level)
-        except ValueError as exc:
-            raise InputError(f"{study.name}: {exc} (option --level)") from exc
+        lv = self.level
+        if lv is not None and (
+            isinstance(lv, bool) or not isinstance(lv, int) or not 0 <= lv <= MAX_LEVEL
+        ):  # the case file's range: a finer global level does not fit a machine's memory
+            raise InputError(
+                f"{study.name}: --level {lv!r}: must be an integer from 0 to {MAX_LEVEL} "
+                "(the range of the case file's [model] level)"
+            )
         n = self.positions
         if n is not None and (
             isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_POSITIONS

@@ -71,3 +71,25 @@ def test_case_options_change_the_case_as_solved_and_name_a_bad_option():
     ):
         with pytest.raises(InputError, match=words):
             options.applied(GB)
+
+
+def test_one_level_range_in_the_case_file_the_options_the_help_and_the_docs(capsys):
+    """The case file's [model] level, --level, planetary-fe run --help and the generated
+    field reference give the same range (a --level beyond the case file's range was accepted
+    and then met a global mesh no machine here holds)."""
+    import pytest
+
+    from cases.reference import reference_markdown
+    from cases.study_case import MAX_LEVEL
+    from studies.cli import InputError
+    from studies.run import main
+    from studies.settings import CaseOptions
+
+    assert CaseOptions(level=MAX_LEVEL).applied(GB)[1].level == MAX_LEVEL
+    with pytest.raises(InputError, match=f"--level {MAX_LEVEL + 1}: must be an integer from 0"):
+        CaseOptions(level=MAX_LEVEL + 1).applied(GB)
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert f"mesh level 0-{MAX_LEVEL}," in " ".join(capsys.readouterr().out.split())
+    row = next(r for r in reference_markdown("case").splitlines() if r.startswith("| `level`"))
+    assert f"0..{MAX_LEVEL}" in row
