@@ -51,14 +51,17 @@ report: $(STAMP) ## the whole study on one page: results/report.md
 	$(PY) -m studies.paper_report --results $(RESULTS) $(if $(STARTED),--started $(STARTED))
 
 # `## ` marks a target of the product (one run of a case and its report), `### ` a research or
-# verification study that uses it.
-help: ## list the targets: the product first, then the studies
+# verification study that uses it, `#### ` a diagnostic or benchmark of the pipeline itself.
+help: ## list the targets: the product first, then the studies, then the diagnostics
 	@echo "The product (make VARIABLE=value TARGET):"
 	@grep -E '^[a-zA-Z0-9_-]+:.*[^#]## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  %-17s %s\n", $$1, $$2}'
 	@printf "  %-17s %s\n" "$(firstword $(CASE1) $(CASE2)) ..." "one shipped case: $(CASE1) $(CASE2) [NP=2] [IN_CORE=1]"
 	@echo
 	@echo "Research and verification studies:"
-	@grep -E '^[a-zA-Z0-9_-]+:.*### ' $(MAKEFILE_LIST) | awk -F':.*### ' '{printf "  %-17s %s\n", $$1, $$2}'
+	@grep -E '^[a-zA-Z0-9_-]+:.*[^#]### ' $(MAKEFILE_LIST) | awk -F':.*### ' '{printf "  %-17s %s\n", $$1, $$2}'
+	@echo
+	@echo "Diagnostics and benchmarks:"
+	@grep -E '^[a-zA-Z0-9_-]+:.*#### ' $(MAKEFILE_LIST) | awk -F':.*#### ' '{printf "  %-17s %s\n", $$1, $$2}'
 
 setup: $(STAMP) ## create the virtualenv and install pinned dependencies
 
@@ -77,7 +80,7 @@ test: test-serial test-mpi ## run all tests
 # TEST_WORKERS=0 runs them in this process. --durations names the slowest tests in the log, so a
 # CI run that nears its 90 min says where the time went (CI keeps the log of a failed run).
 TEST_WORKERS ?= 2
-test-serial: $(STAMP)
+test-serial: $(STAMP) #### the serial tests only (TEST_WORKERS=2 processes)
 	$(PY) -m pytest -m "not mpi" --durations=25 $(if $(filter-out 0,$(TEST_WORKERS)),-n $(TEST_WORKERS) --dist loadfile)
 
 # Exit code 5 = no test collected under this marker; not a failure. Each test file with MPI
@@ -85,7 +88,7 @@ test-serial: $(STAMP)
 # is not held beside the next file's (the root-stress sectors of level 0, meshed at level
 # 1's sizes, made the files run in one process exceed 23 GB).
 MPI_TEST_FILES = $(shell grep -l "mark.mpi" tests/test_*.py)
-test-mpi: $(STAMP)
+test-mpi: $(STAMP) #### the MPI tests only, each file on 2 ranks
 	@for f in $(MPI_TEST_FILES); do \
 	  $(MPIEXEC) -n 2 $(PY) -m pytest -m mpi -p no:cacheprovider -q --durations=5 $$f; rc=$$?; \
 	  [ $$rc -eq 0 ] || [ $$rc -eq 5 ] || exit $$rc; \
@@ -142,16 +145,16 @@ case2: $(STAMP) ## the case-2 FE cases (double pinion) and their report: results
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(CASE_FLAGS)
 	$(PY) -m studies.paper.case2 --results $(RESULTS) --cases $(CASE2) --single $(CASE1)
 
-bench-study: $(STAMP) ### reuse and MPI speed-ups of the study: results/bench/study.json
+bench-study: $(STAMP) #### reuse and MPI speed-ups of the study: results/bench/study.json
 	$(PY) -m studies.benchmarks.study --out $(RESULTS)/bench --level 1
 
 meshes: $(STAMP) ## case scenes at the default level: results/meshes/{*.png,*.json}
 	$(PY) -m studies.meshes --gearsets $(GEARSETS) --carrier --out $(RESULTS)/meshes
 
-bench-mesh: $(STAMP) ### meshing benchmark: results/bench/meshing.json
+bench-mesh: $(STAMP) #### meshing benchmark: results/bench/meshing.json
 	$(PY) -m studies.benchmarks.meshing --gearsets $(GEARSETS) --out $(RESULTS)/bench/meshing.json
 
-bench-solver: $(STAMP) ### contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
+bench-solver: $(STAMP) #### contact solver benchmark, serial and 2 ranks: results/bench/solver*.json
 	$(PY) -m studies.benchmarks.solver --out $(RESULTS)/bench
 	$(MPIEXEC) -n 2 $(PY) -m studies.benchmarks.solver --out $(RESULTS)/bench/mpi2
 
@@ -173,7 +176,7 @@ fillet-study: $(STAMP) ### root stress against fillet size: results/fillet/<case
 # four 0.15 mm read sectors; the level-1 variants took 15-16 min beside another run).
 DRIVER_LEVEL ?= 0
 .PHONY: driver-sizes
-driver-sizes: $(STAMP) ### which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>[_roll<roll>].{json,md}
+driver-sizes: $(STAMP) #### which global size the root-stress driver error follows: results/convergence/<case>/driver_sizes_L<level>[_roll<roll>].{json,md}
 	$(PY) -m studies.convergence.driver_sizes --case $(or $(CASE),1-GB) --level $(DRIVER_LEVEL) \
 	  --out $(RESULTS)/convergence
 
@@ -188,7 +191,7 @@ SECTOR_VARIANTS ?=
 # the sun angle (rad) of the position read; 0 is the convergence records' position
 SECTOR_ROLL ?= 0
 .PHONY: sector-sizes
-sector-sizes: $(STAMP) ### which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>[_roll<roll>].{json,md}
+sector-sizes: $(STAMP) #### which sizes the root-stress sector follows: results/convergence/<case>/sector_sizes_L<level>[_roll<roll>].{json,md}
 	$(PY) -m studies.convergence.sector_sizes --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
 	  --roll $(SECTOR_ROLL) $(if $(SECTOR_VARIANTS),--variants $(SECTOR_VARIANTS)) \
 	  --out $(RESULTS)/convergence
@@ -196,7 +199,7 @@ sector-sizes: $(STAMP) ### which sizes the root-stress sector follows: results/c
 # The spread of sector-sizes' straight variants at one read fillet (1:0.1 2:0.1 3:0.1 at level
 # 1) kept with the case's convergence record: the floor under its root stresses' sector U.
 .PHONY: sector-scatter
-sector-scatter: $(STAMP) ### keep sector-sizes' scatter with the case's record (solves nothing): studies/records/convergence/<case>/
+sector-scatter: $(STAMP) #### keep sector-sizes' scatter with the case's record (solves nothing): studies/records/convergence/<case>/
 	$(PY) -m studies.convergence.sector_scatter --case $(or $(CASE),1-GB) --level $(SECTOR_LEVEL) \
 	  --roll $(SECTOR_ROLL) --out $(RESULTS)/convergence
 
@@ -204,18 +207,18 @@ sector-scatter: $(STAMP) ### keep sector-sizes' scatter with the case's record (
 # CG/GAMG on one 1-GB position per level; time, peak memory and the change of every result.
 LINEAR_LEVELS ?= 1 2
 .PHONY: bench-linear
-bench-linear: $(STAMP) ### exact LU vs BLR vs CG/GAMG: results/bench/linear_solver.{json,md}
+bench-linear: $(STAMP) #### exact LU vs BLR vs CG/GAMG: results/bench/linear_solver.{json,md}
 	$(PY) -m studies.benchmarks.linear --levels $(LINEAR_LEVELS) --out $(RESULTS)/bench
 
 .PHONY: bench-contact
-bench-contact: $(STAMP) ### line vs zone contact model: results/bench/contact_grid.json
+bench-contact: $(STAMP) #### line vs zone contact model: results/bench/contact_grid.json
 	$(PY) -m studies.benchmarks.contact --out $(RESULTS)/bench --level 0
 
 # Keep benchmark files in the repository for the docs' performance page: BENCH names the files
 # of results/bench without their suffix (their .json, .md and .png are recorded together).
 BENCH ?=
 .PHONY: record-bench
-record-bench: $(STAMP) ### keep benchmark files for the docs: make record-bench BENCH="solver linear_solver"
+record-bench: $(STAMP) #### keep benchmark files for the docs: make record-bench BENCH="solver linear_solver"
 	@[ -n "$(BENCH)" ] || { echo "error: name the files: make record-bench BENCH=solver" >&2; exit 2; }
 	$(PY) -m studies.benchmarks.record $(foreach b,$(BENCH),$(wildcard $(RESULTS)/bench/$(b).json $(RESULTS)/bench/$(b).md $(RESULTS)/bench/$(b).png))
 
@@ -279,7 +282,7 @@ convergence-main: $(STAMP) ### the ladders behind the ±, unless recorded (RECOR
 # run solved again by today's code and compared scalar by scalar (kept in the record; the
 # summaries quote it). About 4 min for 1-GB, 5 min for 2B-GA on 2 cores (2026-11-29).
 .PHONY: reproduce-records
-reproduce-records: $(STAMP) ### solve the records' level-0 runs again by today's code, compare, note it in the records
+reproduce-records: $(STAMP) #### solve the records' level-0 runs again by today's code, compare, note it in the records
 	$(PY) -m studies.convergence 1-GB --reproduce 0 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 	$(PY) -m studies.convergence 2B-GA --reproduce 0 --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 
@@ -289,13 +292,13 @@ reproduce-records: $(STAMP) ### solve the records' level-0 runs again by today's
 # L:D:F:R (and level R's refined fillets).
 RUN ?= 1:1:2
 .PHONY: add-to-record
-add-to-record: $(STAMP) ### an off-ladder run added to a record: make add-to-record CASE=1-GB RUN=1:1:2 [OOC=1:1:2]
+add-to-record: $(STAMP) #### an off-ladder run added to a record: make add-to-record CASE=1-GB RUN=1:1:2 [OOC=1:1:2]
 	@[ -n "$(CASE)" ] || { echo "error: give the case: make add-to-record CASE=1-GB RUN=1:1:2" >&2; exit 2; }
 	$(PY) -m studies.convergence $(CASE) --add-to-record $(RUN) $(if $(OOC),--out-of-core $(OOC)) \
 	  --timeout $(CONV_MAIN_TIMEOUT) --out $(RESULTS)/convergence
 
 # The case-1 speed-against-error benchmark is the convergence study of 1-GB (with P2).
-bench-case1: $(STAMP) ### case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
+bench-case1: $(STAMP) #### case 1 speed against error: the convergence study of 1-GB, results/convergence/1-GB/
 	@$(MAKE) --no-print-directory convergence CASE=1-GB CONV_EXTRA=0:2
 
 # The radial mesh stiffness of the case-1 meshes from the FE (pust2016): with the case's
@@ -330,7 +333,7 @@ lead-correction: $(STAMP) ### lead correction of a case: make lead-correction CA
 PEER_LEVELS ?= 0
 # e.g. PEER_ARGS="--ccx-penalty-sweep 1000 10 --reuse-ccx" (see studies/peer/driver.py)
 PEER_ARGS ?=
-ccx-setup:
+ccx-setup: #### install CalculiX (ccx) for bench-peer when it is missing (apt-get as root)
 	@command -v ccx >/dev/null 2>&1 || { \
 	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
 	    echo "installing calculix-ccx (apt-get)"; \
