@@ -82,7 +82,7 @@ from studies.cli import (
     with_path,
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
-from studies.plausibility import plausibility_warnings
+from studies.plausibility import input_warnings, plausibility_warnings
 from studies.position import check_root_stress, roll_angles, solve_position, study_scene
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
@@ -193,6 +193,8 @@ def run_study(
     except INPUT_ERRORS as exc:
         raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
     check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
+    for w in input_warnings(study):
+        progress.warn(w)
     own = ranks is None
     ranks = Ranks(comm) if own else ranks
     try:
@@ -312,8 +314,9 @@ def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress
         f"reading the convergence studies under {out_root}",
     )
     summary.update(found)
-    summary["warnings"] = plausibility_warnings(study, summary)
-    for w in summary["warnings"]:
+    found_now = plausibility_warnings(study, summary)
+    summary["warnings"] = input_warnings(study) + found_now  # the inputs' said before solving
+    for w in found_now:
         progress.warn(w)
     on_root(
         comm, lambda: write_json(out / "summary.json", summary), f"writing {out / 'summary.json'}"

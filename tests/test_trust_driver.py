@@ -25,7 +25,11 @@ from mpi4py import MPI
 from cases.study_case import load_study_case
 from studies import files
 from studies import run as study_run
-from studies.plausibility import CONTACT_STRESS_LIMIT_MPA, plausibility_warnings
+from studies.plausibility import (
+    CONTACT_STRESS_LIMIT_MPA,
+    input_warnings,
+    plausibility_warnings,
+)
 from studies.position import Position
 from studies.progress import LoopClock, Progress, bar, clock
 
@@ -574,6 +578,35 @@ def test_ordinary_load_gives_no_warning(stub, tmp_path, capsys):
     # the fake's Hertz stress is ordinary (the real formula at 300 N/mm), not near the bound
     assert 800 < summary["contact_stress_mean_loaded"]["sun_pinion"] < 2500
     assert summary["warnings"] == [] and "warning" not in capsys.readouterr().err
+
+
+def test_a_bearing_stiffness_in_another_unit_warns_before_the_solve(
+    stub, tmp_path, capsys, monkeypatch
+):
+    """Issue 57: a radial stiffness of 800 N/mm was accepted without a word. It warns (the
+    usual range and the likely unit), before the first position and in the summary's
+    warnings, and the run goes on; the shipped cases' bearings give no warning."""
+    text = Path(load_study_case("1-GA").path).read_text()
+    assert "radial_stiffness = 2.33e8" in text
+    case = tmp_path / "1-GA.toml"
+    case.write_text(text.replace("radial_stiffness = 2.33e8", "radial_stiffness = 800.0"))
+    said = []  # stderr at each solve
+
+    def solve(*args, **kw):
+        said.append(capsys.readouterr().err)
+        return stub(*args, **kw)
+
+    monkeypatch.setattr(study_run, "solve_position", solve)
+    assert cli(tmp_path, case, "--level", 0, "--positions", N_POS) == 0
+    err = "".join(said) + capsys.readouterr().err
+    warnings = json.loads((stub.out / "summary.json").read_text())["warnings"]
+    assert len(warnings) == 2  # softer than any needle bearing, and a 2000 mm long one
+    assert "radial_stiffness = 800 N/mm is below 1e+05 N/mm" in warnings[0]
+    assert "imply a bearing" in warnings[1] and "another unit" in warnings[1]
+    assert all(err.count(f"warning: {w}") == 1 for w in warnings)  # said once, up front
+    assert all(f"warning: {w}" in said[0] for w in warnings)  # before the first solve
+    for name in ("1-GA", "1-GB", "1-GC", "1-GB-R", "2B-GA", "2B-GB", "parker2000-3"):
+        assert input_warnings(load_study_case(name)) == [], name
 
 
 def test_contact_bound_is_steel_equivalent():
