@@ -126,8 +126,11 @@ class StageLine:
 
 class LoopClock:
     """Elapsed time and an estimate of the time left over a loop of ``total`` items, of which
-    ``to_work`` take work (the others are reused); the estimate is the mean time of the items
-    worked so far times the number still to work."""
+    ``to_work`` take work (the others are reused). The first item worked pays the set-up
+    (bodies factorized, sectors built) that the others reuse, so it is left out of the
+    estimate: the time left is the mean of the items worked after it times the number still
+    to work, and none is given before one is known (the first's cost would overstate the
+    rest several times over)."""
 
     def __init__(self, total: int, to_work: int):
         self.total, self.to_work = total, to_work
@@ -146,6 +149,14 @@ class LoopClock:
         elapsed = time.perf_counter() - self.t0
         text = f"{bar(self.done, self.total)} {self.done}/{self.total}, {clock(elapsed)} elapsed"
         left = self.to_work - len(self._times)
-        if self._times and left > 0:
-            text += f", about {clock(left * sum(self._times) / len(self._times))} left"
+        if left <= 0 or not self._times:
+            return text
+        reused_cost = self._times[1:]
+        if reused_cost:
+            text += f", about {clock(left * sum(reused_cost) / len(reused_cost))} left"
+        else:
+            text += (
+                f" (the first took {clock(self._times[0])} with the set-up; the time left "
+                "follows from the next)"
+            )
         return text

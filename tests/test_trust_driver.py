@@ -526,9 +526,22 @@ def test_progress_helpers():
     c = LoopClock(total=4, to_work=2)
     c.step()  # reused
     c.step(10.0)
-    assert c.status().endswith("about 0:10 left")  # one left to solve, 10 s each
+    assert "about" not in c.status() and "0:10 with the set-up" in c.status()
     c.step(10.0)
     assert "left" not in c.status()  # the last one is reused
+
+
+def test_the_time_left_leaves_the_first_positions_set_up_out():
+    """Issue 57: after the first position the estimate was about three times too high (its
+    set-up counted as a position's cost). The first is shown apart; the positions after it
+    set the estimate."""
+    c = LoopClock(total=5, to_work=5)
+    c.step(351.0)  # bodies factorized and sectors built
+    assert "about" not in c.status() and "5:51 with the set-up" in c.status()
+    c.step(120.0)
+    assert c.status().endswith("about 6:00 left")  # three more at 120 s, not at 235 s
+    c.step(130.0)
+    assert c.status().endswith("about 4:10 left")  # two more at 125 s
 
 
 def test_progress_is_written_on_rank_0_only():
