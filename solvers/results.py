@@ -22,6 +22,8 @@ and forces are per unit thickness. Every sum over FE DOFs goes through
 
 from __future__ import annotations
 
+import errno
+import shutil
 from pathlib import Path
 
 import dolfinx_solver  # noqa: F401 - orders MPI ahead of the bindings
@@ -128,10 +130,56 @@ def line_load(problem: ContactProblem, result: ContactResult, pair: int = 0) -> 
     return q / np.asarray(p.grid.station_length, float)
 
 
+#: room for BP4's metadata and index beside the arrays :func:`vtx_bytes` counts (a test holds
+#: the estimate above what is written)
+VTX_SIZE_MARGIN = 1.5
+
+
+def vtx_bytes(problem: ContactProblem) -> int:
+    """An upper estimate of the bytes :func:`write_vtx` writes, every rank's part summed: VTX
+    writes each field on its own space's nodes (P2: the edge midpoints too), as 3D
+    coordinates and a 3-component value per node, and the cells over those nodes, 8 bytes a
+    number."""
+    local = 0
+    for b in problem.bodies.values():
+        topo = b.mesh.topology
+        cells = topo.index_map(topo.dim).size_local
+        nodes = b.V.dofmap.index_map.size_local + b.V.dofmap.index_map.num_ghosts
+        per_cell = b.V.dofmap.dof_layout.num_dofs
+        local += 8 * (6 * nodes + cells * (per_cell + 2))
+    comm = next(iter(problem.bodies.values())).comm
+    return int(VTX_SIZE_MARGIN * comm.allreduce(local))
+
+
+def check_room(folder: Path, problem: ContactProblem) -> None:
+    """OSError (ENOSPC) on every rank when the file system of ``folder`` has less room than
+    :func:`vtx_bytes`: ADIOS2 aborts the process on a full disk (a C++ abort, no Python
+    error), so the write is not started. Decided on rank 0 and shared, so every rank agrees
+    before the collective writer is opened."""
+    comm = next(iter(problem.bodies.values())).comm
+    need = vtx_bytes(problem)
+    free = None
+    if comm.rank == 0:
+        where = Path(folder)
+        while not where.exists() and where != where.parent:
+            where = where.parent
+        free = shutil.disk_usage(where).free
+    free = comm.bcast(free, root=0)
+    if free < need:
+        raise OSError(
+            errno.ENOSPC,
+            f"{need / 1e6:.0f} MB needed for the fields, {free / 1e6:.0f} MB free on its file "
+            "system",
+            str(folder),
+        )
+
+
 def write_vtx(folder: str | Path, problem: ContactProblem, result: ContactResult) -> list[Path]:
     """Displacement of every body (rigid part included) as VTX, ``folder/<body>.bp``, in the
-    scene frame: each body's mesh and field are placed for the write and put back after."""
+    scene frame: each body's mesh and field are placed for the write and put back after.
+    Refused up front where the file system has not the room (:func:`check_room`)."""
     folder = Path(folder)
+    check_room(folder, problem)
     paths = []
     for name, b in problem.bodies.items():
         fn = b.function(result.displacements[name], name="displacement")
