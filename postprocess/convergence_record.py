@@ -36,6 +36,9 @@ rewrites them after a change to the reductions). The format, as read here:
     floors the sector part of each root stress's U).
 ``recorded``
     date and commit of a record (absent in a study of this machine's results).
+``checksum``
+    sha256 of the study's JSON without this key (:func:`checksum`), written with it: a study
+    edited by hand or damaged does not match and gives no ± (:func:`checksum_problem`).
 ``reproduced[*]``
     a run solved again by later code and compared with the record
     (``run``, ``code_hash``, ``date``, ``scalars``, ``identical``, ``max_rel_diff``, ``worst``,
@@ -44,6 +47,8 @@ rewrites them after a change to the reductions). The format, as read here:
 
 from __future__ import annotations
 
+import hashlib
+import json
 import os
 from collections.abc import Mapping
 from pathlib import Path
@@ -51,6 +56,8 @@ from pathlib import Path
 __all__ = [
     "SAFETY",
     "SAFETY_TWO_GRID",
+    "checksum",
+    "checksum_problem",
     "convergence_links",
     "missing_runs",
     "reproduced_by",
@@ -64,6 +71,30 @@ __all__ = [
 SAFETY = 1.25
 #: Roache's factor of safety when the order is assumed, not observed
 SAFETY_TWO_GRID = 3.0
+
+
+def checksum(conv: Mapping) -> str:
+    """sha256 of ``conv`` without its ``checksum``, as canonical JSON (sorted keys, no
+    spaces; floats as Python writes them, which read back to the same value)."""
+    body = {k: v for k, v in conv.items() if k != "checksum"}
+    text = json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def checksum_problem(conv: Mapping) -> str | None:
+    """Why ``conv`` cannot be trusted as written (its checksum does not match its content:
+    edited by hand or damaged), or None. A study without a checksum (written before studies
+    carried one) is taken as it is."""
+    stored = conv.get("checksum")
+    if stored is None:
+        return None
+    try:
+        now = checksum(conv)
+    except (TypeError, ValueError) as exc:
+        return f"its content cannot be checked ({exc})"
+    if stored != now:
+        return "its checksum does not match its content (edited by hand or damaged)"
+    return None
 
 
 def missing_runs(conv: Mapping) -> list[str]:

@@ -315,6 +315,10 @@ def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress
     )
     summary.update(found)
     found_now = plausibility_warnings(study, summary)
+    found_now += [  # a damaged or edited study is not passed over in silence
+        f"{study.name}: convergence study skipped for the ±: {why}"
+        for why in (summary.get("uncertainty_source") or {}).get("skipped") or []
+    ]
     summary["warnings"] = input_warnings(study) + found_now  # the inputs' said before solving
     for w in found_now:
         progress.warn(w)

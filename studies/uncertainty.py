@@ -33,6 +33,7 @@ from pathlib import Path
 
 from cases.study_case import StudyCase, study_inputs
 from postprocess.convergence_record import (
+    checksum_problem,
     missing_runs,
     reproduced_by,
     reproduction_text,
@@ -86,6 +87,11 @@ def _studies(folder: Path, name: str, key: dict, unreadable: list[str] | None = 
                 unreadable.append(f"{path}: {exc}")
             continue
         if isinstance(conv, dict) and conv.get("match") == key and conv.get("scalars"):
+            problem = checksum_problem(conv)
+            if problem is not None:
+                if unreadable is not None:
+                    unreadable.append(f"{path}: {problem}")
+                continue
             yield path, conv
 
 
@@ -136,8 +142,9 @@ def summary_uncertainty(
     if records is not None:
         found += list(_studies(records, study.name, key, unreadable))
     out = _from_studies(study, run_label(level, degree, **(variant or {})), folder, key, found)
-    if unreadable:  # a damaged study of this machine must not stand aside unseen
+    if unreadable:  # a damaged study must not stand aside unseen
         out["uncertainty_source"]["note"] += "; skipped as unreadable: " + "; ".join(unreadable)
+        out["uncertainty_source"]["skipped"] = unreadable
     return out
 
 

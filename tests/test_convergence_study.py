@@ -1391,3 +1391,39 @@ def test_add_to_record_solves_an_off_ladder_run_and_the_record_stands_for_it(
         assert main([*argv, bad]) == 2
         assert why in capsys.readouterr().err
     assert len(asked) == 3
+
+
+@pytest.mark.parametrize("case", ["1-GB", "2B-GA"])
+def test_a_record_carries_the_checksum_of_its_content(case):
+    """Every shipped record is written with its checksum (python -m studies.convergence
+    --reduce-records writes it), so an edit by hand is told from the record."""
+    from postprocess.convergence_record import checksum, checksum_problem
+
+    conv = read_json(RECORDS / case / STUDY_FILE)
+    assert conv.get("checksum") == checksum(conv) and checksum_problem(conv) is None
+
+
+def test_an_edited_record_gives_no_plus_minus_and_is_named(tmp_path):
+    """Issue 57: a record edited by hand (one U made smaller) was read as a record. Its
+    checksum no longer matches: it is skipped, named in the note and in ``skipped`` (which
+    the driver turns into warnings), and the summary has no ± from it."""
+    import shutil
+
+    from studies.convergence.driver import write_study
+
+    records = tmp_path / "records"
+    shutil.copytree(RECORDS / "1-GB", records / "1-GB")
+    path = records / "1-GB" / STUDY_FILE
+    conv = read_json(path)
+    write_study(path, conv)  # as the driver writes it
+    gb = load_study_case("1-GB")
+    good = summary_uncertainty(gb, 1, 1, tmp_path / "results", records=records)
+    assert good["uncertainty"] and "skipped" not in good["uncertainty_source"]
+    edited = read_json(path)
+    edited["scalars"]["My_pin"]["uncertainty"]["L1P1"] /= 10
+    write_json(path, edited)
+    got = summary_uncertainty(gb, 1, 1, tmp_path / "results", records=records)
+    assert got["uncertainty"] is None
+    (why,) = got["uncertainty_source"]["skipped"]
+    assert str(path) in why and "checksum does not match" in why
+    assert "checksum does not match" in got["uncertainty_source"]["note"]

@@ -622,6 +622,24 @@ def test_a_bearing_stiffness_in_another_unit_warns_before_the_solve(
         assert input_warnings(load_study_case(name)) == [], name
 
 
+def test_an_edited_convergence_study_is_a_warning(stub, tmp_path, capsys):
+    """A convergence study beside the results whose checksum does not match its content
+    (edited by hand or damaged) is skipped for the ± and said in the summary's warnings and
+    on stderr, not passed over in silence."""
+    from studies.uncertainty import RECORDS, STUDY_FILE
+
+    conv = json.loads((RECORDS / "1-GB" / STUDY_FILE).read_text())
+    conv["checksum"] = "0" * 64
+    mine = tmp_path / "out" / "convergence" / "1-GB" / STUDY_FILE
+    mine.parent.mkdir(parents=True)
+    mine.write_text(json.dumps(conv))
+    assert cli(tmp_path, "1-GA", "--level", 0, "--positions", N_POS) == 0
+    warnings = json.loads((stub.out / "summary.json").read_text())["warnings"]
+    (w,) = [w for w in warnings if "convergence study skipped" in w]
+    assert str(mine) in w and "checksum does not match" in w
+    assert f"warning: {w}" in capsys.readouterr().err
+
+
 def test_contact_bound_is_steel_equivalent():
     """1-GB-R (gears 10x stiffer than steel, same loads as 1-GC) reaches about 8400 MPa mean
     Hertz stress at level 0, 2650 MPa on steel: no warning; the same number on steel gears

@@ -61,7 +61,7 @@ from pathlib import Path
 from cases.study_case import MAX_POSITIONS, inputs_hash, load_study_case, without_variant
 from meshing import sizing
 from meshing.submodel import submodel_level
-from postprocess.convergence_record import missing_runs, reproduction_text
+from postprocess.convergence_record import checksum, missing_runs, reproduction_text
 from postprocess.run_scalars import VARIANT_KEYS, run_label
 from studies.cli import InputError, StudyFailed, guarded
 from studies.convergence.position_runs import print_row, run_child, solve_run
@@ -323,7 +323,7 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
     }
     if kept:
         return write_reduced({**rec, "sector_scatter": kept}, dest)
-    write_json(dest / STUDY_FILE, rec)  # reduced, reported and charted in ``folder``
+    write_study(dest / STUDY_FILE, rec)  # reduced, reported and charted in ``folder``
     for name in ("report.md", CHART):
         if (folder / name).is_file():
             shutil.copyfile(folder / name, dest / name)
@@ -333,11 +333,18 @@ def record(folder: Path, conv: dict, records: Path = RECORDS) -> Path:
 def write_reduced(rec: dict, dest: Path) -> Path:
     """Reduce ``rec`` by today's code and write it, its chart and report to ``dest``."""
     rec = reduce_study(rec)
-    write_json(dest / STUDY_FILE, rec)
+    write_study(dest / STUDY_FILE, rec)
     if not speed_error_chart(rec, dest / CHART):
         (dest / CHART).unlink(missing_ok=True)
     write_report(rec, dest)
     return dest / STUDY_FILE
+
+
+def write_study(path: Path, conv: dict) -> None:
+    """Write a study (a convergence.json) with its checksum
+    (:func:`postprocess.convergence_record.checksum`), so the ± lookup knows an edited or
+    damaged one."""
+    write_json(path, {**conv, "checksum": checksum(conv)})
 
 
 def with_recorded_scatter(conv: dict, records: Path = RECORDS) -> dict:
@@ -449,7 +456,7 @@ def reproduce(args) -> dict:
         if (e.get("run"), e.get("code_hash")) != (label, entry["code_hash"])
     ]
     rec["reproduced"] = [*keep, entry]
-    write_json(path, rec)
+    write_study(path, rec)
     write_report(rec, path.parent)
     print(f"{case.name}: {reproduction_text(entry)}; written to {path}", flush=True)
     return entry
@@ -573,7 +580,7 @@ def study(args) -> Path | None:
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
     }
     conv = reduce_study(with_recorded_scatter(conv, args.records))
-    write_json(folder / STUDY_FILE, conv)
+    write_study(folder / STUDY_FILE, conv)
     if not speed_error_chart(conv, folder / CHART):
         (folder / CHART).unlink(missing_ok=True)
     report = write_report(conv, folder)

@@ -34,10 +34,15 @@ from pathlib import Path
 
 from cases.study_case import inputs_hash, load_study_case, without_variant
 from studies.cli import InputError, guarded
-from studies.convergence.driver import reduce_records, with_recorded_scatter, write_reduced
+from studies.convergence.driver import (
+    reduce_records,
+    with_recorded_scatter,
+    write_reduced,
+    write_study,
+)
 from studies.convergence.scatter import level_inputs, other_size_spreads
 from studies.convergence.variant_file import variant_path
-from studies.files import ResultFileError, read_json, write_json
+from studies.files import ResultFileError, read_json
 from studies.provenance import git_revision, utc_stamp
 from studies.uncertainty import RECORDS, STUDY_FILE
 
@@ -107,7 +112,7 @@ def record_scatter(
         return (a["level"], a["roll"], a["fillet_mm"]) == (b["level"], b["roll"], b["fillet_mm"])
 
     kept = [e for e in conv.get("sector_scatter", []) if not any(same(e, n) for n in new)]
-    write_json(path, {**conv, "sector_scatter": kept + new})
+    write_study(path, {**conv, "sector_scatter": kept + new})
     reduce_records(records)
     carry_to_this_machine(out / study.name / STUDY_FILE, records)
     return path
