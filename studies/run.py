@@ -43,6 +43,7 @@ import argparse
 import os
 import shutil
 import sys
+import tempfile
 import time
 import traceback
 from pathlib import Path
@@ -151,6 +152,15 @@ def _make_folders(out_root: Path, out: Path) -> None:
         if d.exists() and not d.is_dir():
             raise ResultFileError(f"{d} is a file, not a folder (results folder --out {out_root})")
     (out / "positions").mkdir(parents=True, exist_ok=True)
+    for d in (out, out / "positions"):  # a folder that exists may still refuse writing
+        try:
+            with tempfile.NamedTemporaryFile(dir=d, prefix=".write-check-"):
+                pass
+        except OSError as exc:
+            raise ResultFileError(
+                f"{d} cannot be written ({exc.strerror or exc}): nothing was solved; "
+                f"choose another results folder (--out) or make it writable"
+            ) from exc
 
 
 def _check_mesh_cache() -> None:

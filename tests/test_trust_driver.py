@@ -346,6 +346,23 @@ def test_out_is_a_file(stub, tmp_path, capsys):
     assert f"{tmp_path / 'out'} is a file, not a folder" in line and stub.rolls == []
 
 
+def test_a_results_folder_that_refuses_writing_is_exit_3_before_solving(
+    stub, tmp_path, capsys, monkeypatch
+):
+    """Issue 57: a read-only results folder was found only when the first position was
+    written. It is tried before anything is solved (patched: these tests run as root, whom
+    a mode does not stop)."""
+
+    def refused(*args, **kw):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(study_run.tempfile, "NamedTemporaryFile", refused)
+    assert cli(tmp_path, "1-GA", "--level", 0, "--positions", N_POS) == 3
+    line = one_error_line(capsys.readouterr().err)
+    assert "cannot be written (Permission denied): nothing was solved" in line
+    assert stub.rolls == []
+
+
 def test_unusable_mesh_cache_is_a_file_error(stub, tmp_path, capsys, monkeypatch):
     """A mesh cache path that is a file: exit 3 before any position, with the hint."""
     cache = tmp_path / "cache"
