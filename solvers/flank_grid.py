@@ -265,7 +265,9 @@ def _matching_depth(pg, other_side: str, x: np.ndarray, inward: np.ndarray, widt
     """Depth d (mm) below flank points x along ``inward`` (unit, into the tooth) where the
     FE and the half-space are matched: MATCHING_DEPTH x the coarse patch width, halved
     (at most 6 times) while the point would come closer than d / 4 to the tooth's other
-    flank (``other_side``) or below the base circle, i.e. near a thin tip."""
+    flank (``other_side``) or below the base circle, i.e. near a thin tip, or would leave the
+    face width: the inward normal of a helical flank has an axial part (sin beta_b), which at
+    a large helix angle carries a face-end row's point out of the body."""
     g = pg.gear
     d = np.full(len(x), MATCHING_DEPTH * width)
     for _ in range(6):
@@ -273,7 +275,7 @@ def _matching_depth(pg, other_side: str, x: np.ndarray, inward: np.ndarray, widt
         ok = np.hypot(y[:, 0], y[:, 1]) > g.base_radius * (1 + 1e-9)
         dev = np.full(len(x), np.inf)
         dev[ok] = involute_deviation(g, y[ok], other_side)
-        bad = dev > -0.25 * d
+        bad = (dev > -0.25 * d) | (np.abs(y[:, 2]) > 0.5 * g.face_width)
         if not bad.any():
             break
         d[bad] *= 0.5
