@@ -12,6 +12,7 @@ from cases.study_case import load_study_case
 from meshing.sizing import LEVELS, MeshingError, run_sizes, with_fillet, with_sizes
 from postprocess.convergence_record import missing_runs
 from studies.case_variants import coarse_root_fillets, global_root_stress
+from studies.convergence.driver import write_study
 from studies.convergence.reduction import (
     compare_runs,
     ladder,
@@ -425,7 +426,7 @@ def test_a_recorded_study_serves_where_the_results_have_none(tmp_path):
     got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
     assert got["uncertainty_source"]["convergence_study"] == str(path)
     # a record solved by other code: still a ±, the first found (this machine's), flagged
-    write_json(path, {**stored, "runs_code_hash": ["1" * 16]})
+    write_study(path, {**stored, "runs_code_hash": ["1" * 16]})  # as the driver writes
     got = summary_uncertainty(ga, 1, 1, tmp_path / "results", records=records)
     assert "results" in got["uncertainty_source"]["convergence_study"]
     assert got["uncertainty"]["My_pin"] == stale["scalars"]["My_pin"]["uncertainty"]["L1P1"]
@@ -496,7 +497,7 @@ def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
     path = record(tmp_path / "study", conv, tmp_path / "records")
     assert recorded(gb, ladder, tmp_path / "records") is None
     assert "not the run(s) L1P1 (failed or skipped when recorded)" in capsys.readouterr().out
-    write_json(path, {**read_json(path), "runs": [runs[0], {"label": "L1P1"}, runs[2]]})
+    write_study(path, {**read_json(path), "runs": [runs[0], {"label": "L1P1"}, runs[2]]})
     assert recorded(gb, ladder, tmp_path / "records") == path
     # an extra run skipped for memory (--min-free-gb) is missing as a failed one is
     extra = {**ladder, "runs": [*ladder["runs"], "L1P1F2"]}
@@ -509,10 +510,10 @@ def test_a_record_with_a_failed_run_is_no_record(tmp_path, capsys):
             "why": "MemAvailable 9.0 GB < 16 GB asked for",
         }
     ]
-    write_json(path, {**read_json(path), "ladder": extra, "skipped": skipped})
+    write_study(path, {**read_json(path), "ladder": extra, "skipped": skipped})
     assert recorded(gb, extra, tmp_path / "records") is None
     assert "not the run(s) L1P1F2 (failed or skipped" in capsys.readouterr().out
-    write_json(path, {**read_json(path), "skipped": []})
+    write_study(path, {**read_json(path), "skipped": []})
     assert recorded(gb, extra, tmp_path / "records") == path
 
 

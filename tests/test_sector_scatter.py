@@ -11,7 +11,7 @@ from cases.study_case import inputs_hash, load_study_case, without_variant
 from meshing.sizing import LEVELS
 from meshing.submodel import submodel_level
 from studies.cli import EXIT_INVALID_INPUT
-from studies.convergence.driver import reduce_records
+from studies.convergence.driver import reduce_records, write_study
 from studies.convergence.reduction import reduce_study, scalar_table
 from studies.convergence.scatter import (
     carried_scatter,
@@ -151,7 +151,7 @@ def _setup(tmp_path, **key):
     records, out = tmp_path / "records", tmp_path / "out"
     shutil.copytree(RECORDS / "1-GB", records / "1-GB")
     path = records / "1-GB" / "convergence.json"
-    write_json(path, {k: v for k, v in read_json(path).items() if k != "sector_scatter"})
+    write_study(path, {k: v for k, v in read_json(path).items() if k != "sector_scatter"})
     reduce_records(records)
     study = load_study_case("1-GB")
     inputs = inputs_hash(without_variant(study))  # a diagnostic sets its sizes itself
@@ -231,7 +231,7 @@ def test_a_record_solved_from_other_inputs_is_refused(tmp_path, capsys):
     rec = read_json(path)
     for run in rec["runs"]:
         run["reuse_key"]["inputs_hash"] = "other"
-    write_json(path, rec)
+    write_study(path, rec)
     argv = ["--case", "1-GB", "--out", str(out), "--records", str(records)]
     assert main(argv) == EXIT_INVALID_INPUT
     assert "level-1 run was solved from other inputs" in capsys.readouterr().err
@@ -269,7 +269,7 @@ def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
         "code_hash": "abc",
         "spread": {"bending_stress_recovered.ring": 0.2},
     }
-    write_json(path, {**old, "sector_scatter": [entry]})
+    write_study(path, {**old, "sector_scatter": [entry]})
     new = {k: v for k, v in old.items() if k not in ("sector_scatter", "recorded")}
     assert carried_scatter(read_json(path), new) == [entry]
     # another case level, gear set or inputs of the case-level run: not the same sectors
@@ -290,7 +290,7 @@ def test_a_record_solved_again_keeps_the_scatter_of_its_sectors(tmp_path):
     assert split["sector_floor"] == 0.2
     assert "source hash abc" in (records / "1-GB" / "report.md").read_text()
     # a record of other inputs: nothing carried, the study's own report copied
-    write_json(path, {**read_json(path), "runs": other})
+    write_study(path, {**read_json(path), "runs": other})
     rec = read_json(record(study, new, records))
     assert "sector_scatter" not in rec
     assert (records / "1-GB" / "report.md").read_text().startswith("# the study, reduced")
@@ -359,7 +359,7 @@ def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path
         return summary_uncertainty(load_study_case("1-GB"), 1, 1, results, records=records)
 
     # written after the record's scatter: the driver carries it
-    write_json(mine, reduce_study(with_recorded_scatter(bare, records)))
+    write_study(mine, reduce_study(with_recorded_scatter(bare, records)))
     got = lookup()
     src = got["uncertainty_source"]
     assert src["convergence_study"] == str(mine)  # this machine's study first
@@ -367,7 +367,7 @@ def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path
     assert src["sector_scatter_from"] == str(records / "1-GB" / "convergence.json")
     assert "kept with" in capsys.readouterr().out
     # written before it: keeping the scatter with the record reduces this study again
-    write_json(mine, reduce_study(bare))
+    write_study(mine, reduce_study(bare))
     assert lookup()["uncertainty"][key] == pytest.approx(own, rel=1e-12)
     carry_to_this_machine(mine, records)
     assert lookup()["uncertainty"][key] == pytest.approx(floored, rel=1e-12)
@@ -377,7 +377,7 @@ def test_a_study_of_this_machine_takes_the_scatter_kept_with_the_record(tmp_path
         dict(r, reuse_key={**r["reuse_key"], "inputs_hash": "other"}) if r["level"] == 1 else r
         for r in rec["runs"]
     ]
-    write_json(records / "1-GB" / "convergence.json", rec)
+    write_study(records / "1-GB" / "convergence.json", rec)
     assert with_recorded_scatter(bare, records) is bare
     # and a study that cannot be read is named and left
     mine.write_text("{ not json")

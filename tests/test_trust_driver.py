@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-from cases.study_case import load_study_case
+from cases.study_case import MAX_LEVEL, load_study_case
 from studies import files
 from studies import run as study_run
 from studies.plausibility import (
@@ -184,12 +184,13 @@ def test_positions_out_of_range_refused_summary_kept(n, stub, tmp_path, capsys):
     assert summary.read_text() == '{"My_pin": 257.2}\n' and stub.rolls == []
 
 
-@pytest.mark.parametrize("level", [9, 5, -1])
+@pytest.mark.parametrize("level", [9, 5, 4, -1])
 def test_level_outside_the_ladder_refused(level, stub, tmp_path, capsys):
-    """Issue: --level 9 ended in a traceback (per position)."""
+    """Issue: --level 9 ended in a traceback (per position); --level 4 was taken beyond the
+    case file's range (issue 57)."""
     assert cli(tmp_path, "1-GA", "--level", level) == 2
     line = one_error_line(capsys.readouterr().err)
-    assert f"level = {level}" in line and "from 0 to 4" in line and "--level" in line
+    assert f"--level {level}: must be an integer from 0 to {MAX_LEVEL}" in line
     assert stub.rolls == [] and not (tmp_path / "out").exists()
 
 
