@@ -84,6 +84,7 @@ WHEN: dict[str, Callable[[dict], bool | None]] = {
     "recorded study": lambda s: None,
     "code changed": lambda s: None,
     "scatter carried": lambda s: None,
+    "study skipped": lambda s: bool((s.get("uncertainty_source") or {}).get("skipped")),
     "failed positions": lambda s: bool(s.get("failed_positions")),
 }
 
