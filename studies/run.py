@@ -69,6 +69,7 @@ from postprocess.paper_moments import MEAN_KEYS
 from postprocess.run_scalars import sizes_in_words
 from postprocess.summary import summarise
 from solvers.body_store import BodyStore
+from studies.case_options import CaseOptions
 from studies.cli import (
     EXIT_INTERNAL,
     EXIT_INTERRUPTED,
@@ -88,7 +89,7 @@ from studies.position import check_root_stress, roll_angles, solve_position, stu
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
 from studies.ranks import Ranks
-from studies.settings import CaseOptions, RunSettings
+from studies.settings import RunSettings
 from studies.uncertainty import summary_uncertainty
 
 # What a finished position file must hold to be reused (beyond the paper's scalars of its
@@ -187,7 +188,7 @@ def run_study(
     :data:`~studies.cli.INPUT_ERRORS` before anything is solved, and
     :class:`~studies.files.ResultFileError` when a result cannot be written (every rank
     raises the same error). ``options``: what the run asks beyond the case file
-    (:class:`studies.settings.CaseOptions`: level, positions, scene, root fillets, out of
+    (:class:`studies.case_options.CaseOptions`: level, positions, scene, root fillets, out of
     core; a scene, root fillets or out of core given is recorded in the summary's inputs).
     ``ranks``: the failure agreement of ``comm`` (made here if not given; it is collective
     to make, so a caller running several studies makes it once). ``store``: the bodies kept

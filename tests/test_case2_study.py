@@ -24,11 +24,12 @@ from cases.study_case import CASE_DIR, load_study_case
 from postprocess.paper_report import record_wall_time, write_paper_report
 from solvers.body_store import BodyStore
 from studies import run as study_run
+from studies.case_options import CaseOptions
 from studies.case_variants import global_root_stress
 from studies.paper.case2_report import collinear_check, planetary_input, write_report
 from studies.position import cycle_sector_teeth, solve_position
 from studies.progress import Progress
-from studies.settings import CaseOptions, RunSettings
+from studies.settings import RunSettings
 
 GEARSETS = CASE_DIR / "gearsets"
 TORQUE = 1000.0  # N m on the sun: the user's own load, not the paper's 1378.7

@@ -14,13 +14,13 @@ from cases.study_case import load_study_case
 from meshing.submodel import submodel_level
 from postprocess.run_scalars import summary_scalars
 from studies import run as study_run
+from studies.case_options import CaseOptions
 from studies.convergence.position_runs import FILLET_SCALARS, solve_run
 from studies.convergence.reduction import scalar_table
 from studies.files import write_json
 from studies.paper.case1_report import write_report
 from studies.progress import Progress
 from studies.provenance import code_hash
-from studies.settings import CaseOptions
 from studies.uncertainty import STUDY_FILE, match_key
 
 

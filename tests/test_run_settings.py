@@ -51,8 +51,8 @@ def test_case_options_change_the_case_as_solved_and_name_a_bad_option():
     InputError naming the option and what is allowed."""
     import pytest
 
+    from studies.case_options import CaseOptions
     from studies.cli import InputError
-    from studies.settings import CaseOptions
 
     study, run = CaseOptions().applied(GB)
     assert study == GB and run == RunSettings().resolved(GB)
@@ -81,9 +81,9 @@ def test_one_level_range_in_the_case_file_the_options_the_help_and_the_docs(caps
 
     from cases.reference import reference_markdown
     from cases.study_case import MAX_LEVEL
+    from studies.case_options import CaseOptions
     from studies.cli import InputError
     from studies.run import main
-    from studies.settings import CaseOptions
 
     assert CaseOptions(level=MAX_LEVEL).applied(GB)[1].level == MAX_LEVEL
     with pytest.raises(InputError, match=f"--level {MAX_LEVEL + 1}: must be an integer from 0"):

@@ -15,8 +15,9 @@ from cases.study_case import load_study_case
 from gears.contact_stress import iso6336_pitch_contact_stress
 from gears.units import n_mm
 from studies import run as study_run
+from studies.case_options import CaseOptions
 from studies.progress import Progress
-from studies.settings import CaseOptions, RunSettings
+from studies.settings import RunSettings
 
 N_POS = 2
 # what the module's study printed on stderr (warnings), filled by the fixture

@@ -20,9 +20,9 @@ from mpi4py import MPI
 from test_trust_driver import Stub
 
 from studies import run as study_run
+from studies.case_options import CaseOptions
 from studies.cli import StudyFailed
 from studies.files import ResultFileError
-from studies.settings import CaseOptions
 
 COMM = MPI.COMM_WORLD
 # Each test needs about a second (stubbed solves); 60 s means something waits for ever.

@@ -25,8 +25,8 @@ from postprocess.mesh_stress import contact_stress_at_points, edge_points
 from postprocess.paper_moments import contact_line_points
 from solvers.body_store import BodyStore
 from studies import run as study_run
+from studies.case_options import CaseOptions
 from studies.progress import Progress
-from studies.settings import CaseOptions
 
 MESHES = ("sun-pinion", "pinion-ring")
 STDERR = io.StringIO()
