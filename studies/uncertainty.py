@@ -101,10 +101,15 @@ def recorded(study: StudyCase, ladder: dict, records: Path | None = RECORDS) -> 
     :mod:`studies.convergence.driver` writes as ``ladder``) and every run of it finished, or None.
     A record with a failed run is not one (``--record`` refuses such a study; an older
     record may hold what finished): ``--unless-recorded`` would then never solve the
-    missing run; it is named on stdout."""
+    missing run; it is named on stdout, as is a record that cannot be read or does not match
+    its checksum."""
     if records is None:
         return None
-    for path, conv in _studies(records, study.name, match_key(study)):
+    skipped: list[str] = []
+    found = list(_studies(records, study.name, match_key(study), skipped))
+    for why in skipped:  # an edited or damaged record is not silently solved again
+        print(f"{study.name}: a record is skipped: {why}")
+    for path, conv in found:
         if conv.get("ladder") == ladder:
             failed = missing_runs(conv)
             if not failed:

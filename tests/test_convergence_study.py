@@ -1404,7 +1404,7 @@ def test_a_record_carries_the_checksum_of_its_content(case):
     assert conv.get("checksum") == checksum(conv) and checksum_problem(conv) is None
 
 
-def test_an_edited_record_gives_no_plus_minus_and_is_named(tmp_path):
+def test_an_edited_record_gives_no_plus_minus_and_is_named(tmp_path, capsys):
     """Issue 57: a record edited by hand (one U made smaller) was read as a record. Its
     checksum no longer matches: it is skipped, named in the note and in ``skipped`` (which
     the driver turns into warnings), and the summary has no ± from it."""
@@ -1428,3 +1428,6 @@ def test_an_edited_record_gives_no_plus_minus_and_is_named(tmp_path):
     (why,) = got["uncertainty_source"]["skipped"]
     assert str(path) in why and "checksum does not match" in why
     assert "checksum does not match" in got["uncertainty_source"]["note"]
+    # and --unless-recorded, which would solve the ladder again, says why
+    assert recorded(gb, conv["ladder"], records) is None
+    assert "a record is skipped" in capsys.readouterr().out
