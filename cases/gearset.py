@@ -202,6 +202,25 @@ def _number(data: dict, key: str, where: str, *, positive: bool = True) -> float
     return float(value)
 
 
+#: the narrowest face (normal modules) a gear may have: the contact and root stresses are
+#: quoted on the interior of the face, read one module in from each face end (the edge bands
+#: of postprocess.mesh_stress, FACE_BAND_MODULES); below 4 modules that interior is two
+#: modules or less, a section or two of the contact grid, and at about 2 nothing is left to
+#: read (1 mm faces solved to zero contact stress and no K_Hbeta). Real gears have b / m_n of
+#: 6-30.
+MIN_FACE_MODULES = 4.0
+
+
+def _check_face_width(gear: GearSpec, where: str) -> None:
+    least = MIN_FACE_MODULES * gear.normal_module
+    _require(
+        gear.face_width >= least,
+        where,
+        f"face_width = {gear.face_width:g} mm: must be at least {MIN_FACE_MODULES:g} normal "
+        f"modules ({least:g} mm here); the stresses are read one module in from each face end",
+    )
+
+
 def _check_kind_geometry(kind: str, meshes: list[GearMeshSpec], source: str) -> None:
     """Centre distances a carrier can hold: single pinion, sun-pinion = pinion-ring (the
     pinion axis is shared, sun and ring coaxial); double pinion, the sun, SP and RP axes form
@@ -321,6 +340,7 @@ def parse_gearset(
             gears[gname] = GearSpec(name=gname, **{**common, **g})
         except GeometryError as exc:
             raise CaseError(f"{where}: {exc}") from exc
+        _check_face_width(gears[gname], where)
 
     power_path = data.get("power_path")
     _require(

@@ -212,7 +212,10 @@ CASE_FIELDS: dict[str, dict[str, FieldDoc]] = {
             "um",
             _interval(*sc.ZONE_GAP_RANGE),
             '`"zone"` only: grid cells are laid where the unloaded '
-            "separation (modifications included) is below this.",
+            "separation (modifications included) is within this of the "
+            "smallest in its transverse section; a solve whose load reaches "
+            "cells more than half of it above is refused with the limit to set "
+            "(`zone_reach_um` in the position files).",
         ),
         "linear_solver": FieldDoc(
             "string",
@@ -296,7 +299,12 @@ _GEAR = {
         '`"right"`, `"left"` (`"R"`, `"L"`, any case)',
         "Hand of the helix; either for a spur gear.",
     ),
-    "face_width": FieldDoc("number", "mm", "> 0", "Face width b."),
+    "face_width": FieldDoc(
+        "number",
+        "mm",
+        f">= {gs.MIN_FACE_MODULES:g} normal modules",
+        "Face width b; the stresses are read one module in from each face end.",
+    ),
     "internal": FieldDoc(
         "boolean",
         "",

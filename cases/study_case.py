@@ -130,8 +130,9 @@ class Numerics:
     # contact; solvers.flank_grid.zone_grid, solvers.contact eq. (5)).
     contact_model: str = "zone"
     # "zone": grid points are laid where the unloaded separation (modifications included) is
-    # below this (um), ZONE_GAP_RANGE: a few times the largest approach under load (Hertz +
-    # bending + mismatch, 10-20 um for these gears).
+    # within this (um) of its section's smallest, ZONE_GAP_RANGE: twice the largest approach
+    # under load at least (Hertz + bending + mismatch, 10-20 um for these gears; more at an
+    # overturned pinion's tip corners), which solvers.zone_reach checks on every solve.
     zone_gap_limit_um: float = 40.0
     # Solver of each body's stiffness, one of LINEAR_SOLVERS: "mumps" (exact sparse LU),
     # "mumps-blr" (block low-rank LU: less memory, faster factorization) or "cg-gamg"

@@ -60,3 +60,8 @@ class PenaltyConditioningError(SolverError):
 
 class RigidUnknownError(SolverError):
     """A rigid unknown (sun rotation, pinion spin, rigid approach) is not determined."""
+
+
+class ZoneReachError(SolverError):
+    """The solved load reaches the edge of a zone grid's band: cells beyond its gap limit may
+    be in contact (:mod:`solvers.zone_reach`)."""

@@ -61,9 +61,11 @@ Zone grid (``[numerics] contact_model = "zone"``, :func:`zone_grid`). Instead of
 the theoretical lines, the flanks get a grid over the whole potential contact zone: per
 transverse section and tooth pair within reach, cells across the contact line graded from
 half the Hertz semi-width (the pair's contact modulus E*) to h / 2, wherever the unloaded
-separation is within ``[numerics] zone_gap_limit_um`` of its reference: 0 on the drive
-flanks, the section's smallest coast separation on the coast flanks (the backlash, plus
-modifications; :func:`flank_contact_pairs` says why). Its FE compliance comes from one
+separation is within ``[numerics] zone_gap_limit_um`` of its reference, the section's
+smallest separation over the tooth pairs in reach (on the drive flanks 0 on perfect
+involutes, the modifications where there are any; on the coast flanks the backlash, plus
+modifications; :func:`flank_contact_pairs` says why). How far the solved load reaches into
+that band is checked after the solve (:mod:`solvers.zone_reach`). Its FE compliance comes from one
 coarse point per section and its near field from the half-space (eq. (5) of
 :mod:`solvers.contact`). Each zone point carries its own contact normal (n on the contact
 line; off it the driven flank's normal where the driver's tip corner touches, the driver's
@@ -105,6 +107,8 @@ class FlankGridInfo:
     flanks: str = "drive"  # "drive" or "coast"
     fallback: str | None = None  # why a coast view got its line grid under the zone model
     corner: np.ndarray | None = None  # zone grids: per point CORNER_A / CORNER_B bit flags
+    reference: np.ndarray | None = None  # zone grids: per point its section's smallest g0 (mm)
+    gap_limit: float | None = None  # zone grids: cells kept where g0 < reference + this (mm)
 
 
 def _helix_rate(gear) -> float:
@@ -351,7 +355,6 @@ def zone_grid(
     gap_limit: float = 0.04,
     *,
     e_star: float,
-    relative: bool = False,
 ) -> tuple[ContactGrid, FlankGridInfo, ZoneLink]:
     """Contact grid over the whole potential contact zone of a mesh zone (drive or coast view).
 
@@ -424,9 +427,9 @@ def zone_grid(
     1/rho_b, rho the roll lengths), ``e_star`` the pair's contact modulus (MPa), 1/E* =
     (1 - nu_A^2)/E_A + (1 - nu_B^2)/E_B of the study's material, the one the penalty and the
     half-space use (:mod:`solvers.contact`). A cell is kept where g0 at its centre is below
-    g_ref(z_i) + ``gap_limit`` (mm): g_ref = 0 by default (the drive flanks, which touch on
-    perfect involutes), and with ``relative`` the smallest g0 of the section over every
-    tooth pair in reach (the coast flanks, see :func:`flank_contact_pairs`). It stands for
+    g_ref(z_i) + ``gap_limit`` (mm), g_ref(z_i) the smallest g0 of the section over every
+    tooth pair in reach (:func:`flank_contact_pairs` says why; ``FlankGridInfo.reference``
+    holds it per cell, for :mod:`solvers.zone_reach`). It stands for
     the patch seg x (cell width) and is
     spread over it by the gap operator as the line grid's points are. The cells end 0.02 mm
     inside the tip and form circles of both gears (the tooth models have sharp tips, no tip
@@ -540,18 +543,17 @@ def zone_grid(
                 rad_b.reshape(m_z, ZONE_SAMPLES),
             )
         )
-    # the reference each cell's g0 is held against: 0 (absolute), or per section the smallest
-    # g0 over every tooth pair in reach (relative; inf where no pair has flank there)
-    g_ref = np.zeros(m_z)
-    if relative:
-        g_ref = np.min(
-            [np.where(ok, g, np.inf).min(axis=1) for _, _, ok, g, _ in sampled]
-            or [np.full(m_z, np.inf)],
-            axis=0,
-        )
+    # the reference each cell's g0 is held against: per section the smallest g0 over every
+    # tooth pair in reach (inf where no pair has flank there)
+    g_ref = np.min(
+        [np.where(ok, g, np.inf).min(axis=1) for _, _, ok, g, _ in sampled]
+        or [np.full(m_z, np.inf)],
+        axis=0,
+    )
     limit = g_ref + gap_limit
     # pass 2: cells of each section where g0 < limit
-    fine: dict[str, list] = {key: [] for key in ("z", "t", "tz", "dv", "v", "sec", "grp", "corner")}
+    keys = ("z", "t", "tz", "dv", "v", "sec", "grp", "corner", "ref")
+    fine: dict[str, list] = {key: [] for key in keys}
     coarse: dict[str, list] = {key: [] for key in ("z", "t", "tz", "v", "grp")}
     lines = []
     n_fine = 0
@@ -607,6 +609,7 @@ def zone_grid(
             fine["sec"].append(np.full(m, sec))
             fine["grp"].append(np.full(m, grp))
             fine["corner"].append(corner[keep])
+            fine["ref"].append(np.full(m, g_ref[i]))
             n_fine += m
             z_used.append(zc[i])
         if n_fine == first:
@@ -622,8 +625,10 @@ def zone_grid(
             }
         )
     if not lines:
-        of = " of the smallest separation" if relative else ""
-        raise ValueError(f"zone {zone.name}: no flank point within {gap_limit * 1e3:g} um{of}")
+        raise ValueError(
+            f"zone {zone.name}: no flank point within {gap_limit * 1e3:g} um of the smallest "
+            "separation"
+        )
     F = {key: np.concatenate(val) for key, val in fine.items()}
     x, nq, tl, tt = flank_points(F["z"], F["t"], F["tz"])  # n_q: the flank normal per point
     nk = contact_normals(dvn, zone.driven_side, x, nq, F["corner"])
@@ -684,7 +689,16 @@ def zone_grid(
         depth_b,
     )
     info = FlankGridInfo(
-        lines, dev_a, dev_b, mic, mod_a, mod_b, zone.flanks, corner=F["corner"].astype(int)
+        lines,
+        dev_a,
+        dev_b,
+        mic,
+        mod_a,
+        mod_b,
+        zone.flanks,
+        corner=F["corner"].astype(int),
+        reference=F["ref"],
+        gap_limit=float(gap_limit),
     )
     return grid, info, link
 
@@ -714,20 +728,23 @@ def flank_contact_pairs(
     pair gets :func:`zone_grid` with its FE link, graded with the pair's contact modulus
     1/E* = 1/E'_driver + 1/E'_driven from ``e_plane`` (plane-strain modulus E / (1 - nu^2)
     by body name, required; as :mod:`solvers.contact` forms it for the penalty and the
-    half-space). Drive flanks: points where g0 < ``gap_limit`` mm. Coast flanks: points
-    where g0 < g_ref(z) + ``gap_limit``, g_ref(z) the smallest coast separation of the
-    transverse section z over every tooth pair in reach (``relative``). Why per section:
-    the coast flanks close under a rigid tilt or misalignment of a body (an overturned
-    pinion), which changes the gap linearly along the face, and under lead modifications,
-    which vary along the face; a reference per section keeps every section's closest band,
-    so the face ends, where a tilt closes the backlash first, are always on the grid
-    (with one reference per zone, a lead crown of more than ``gap_limit`` would drop them).
+    half-space). Drive and coast flanks alike: points where g0 < g_ref(z) + ``gap_limit``,
+    g_ref(z) the smallest separation of the transverse section z over every tooth pair in
+    reach. Why per section: the flanks close under a rigid tilt or misalignment of a body
+    (an overturned pinion), which changes the gap linearly along the face, and under lead
+    modifications, which vary along the face; a reference per section keeps every
+    section's closest band, so the face ends, where a tilt closes the backlash first or a
+    crown opens the drive flanks, are always on the grid (with one reference per zone, a
+    lead crown of more than ``gap_limit`` would drop them and a tilt that closes them again
+    would not be seen).
     Why over the tooth pairs of the section, not per pair: within a section the pairs see
     about the same body motion, so a pair whose separation exceeds the section's smallest by
-    more than ``gap_limit`` (the corners of the pairs beyond the path) cannot close first,
-    as on the drive flanks; a reference per pair would lay a band at every such corner. On
-    perfect involutes g_ref is the normal backlash j_n on every section, the coast contact
-    lines carry the smallest cells, and the grid is the drive grid's mirror image.
+    more than ``gap_limit`` (the corners of the pairs beyond the path) cannot close first;
+    a reference per pair would lay a band at every such corner. On perfect involutes g_ref
+    is 0 on the drive flanks and the normal backlash j_n on the coast flanks, on every
+    section; the contact lines carry the smallest cells, and the coast grid is the drive
+    grid's mirror image. Whether the band was wide enough is checked on the solved loads
+    (:func:`solvers.zone_reach.check_zone_reach`).
     Fallback: a coast view where :func:`zone_grid` finds no cell (no tooth pair in reach;
     its ``ValueError``) gets its contact-line grid (:func:`flank_grid`, penalty contact as
     in the line model) and ``FlankGridInfo.fallback`` says so, with a warning; the coast
@@ -755,7 +772,6 @@ def flank_contact_pairs(
                     modifications=modifications,
                     gap_limit=gap_limit,
                     e_star=e_star,
-                    relative=zn.flanks == "coast",
                 )
             except ValueError as err:
                 if zn.flanks != "coast":

@@ -34,6 +34,7 @@ from solvers.results import write_vtx
 from solvers.root_stress import root_stress
 from solvers.root_submodel import sector_teeth, submodel_root_stress
 from solvers.train_inputs import TrainInputs
+from solvers.zone_reach import check_zone_reach
 from studies.memory import peak_rss_mb
 from studies.settings import RunSettings
 
@@ -203,6 +204,8 @@ def solve_position(
     )
     _stage(progress, "solve")
     result = model.problem.solve()
+    # refuses a solve whose load reaches the edge of a zone grid's band
+    reach = check_zone_reach([*model.grids.values(), *model.coast_grids.values()], result)
     t_solve = time.perf_counter()
     _stage(progress, "post")
     train = train_results(model, result)
@@ -271,6 +274,7 @@ def solve_position(
     # per drive grid its tooth pairs (rows [first, last + 1) of their grid points: a zone
     # grid's cells; each station's pair is in the mesh's stations["line"])
     out["grid_lines"] = {k: v[1].lines for k, v in model.grids.items()}
+    out["zone_reach_um"] = reach
     out["g0_max_abs_mm"] = float(max(np.abs(v[0].gap0).max() for v in model.grids.values()))
     position = Position(out)
     if keep_fields:

@@ -157,9 +157,7 @@ def test_zone_grid_normals_follow_the_corner_rule(scene, zi, flanks):
     zn = scene.zones[zi]
     drv, dvn = scene.gear(zn.driver), scene.gear(zn.driven)
     view = zn if flanks == "drive" else mesh_zones.coast_zone(zn, drv, dvn)
-    grid, info, link = zone_grid(
-        view, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES, relative=flanks == "coast"
-    )
+    grid, info, link = zone_grid(view, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES)
     line, _ = flank_grid(view, drv, dvn, 0.7)
     n_a = _flank_normal(drv, view.driver_side, grid.x_a)
     n_b = -_flank_normal(dvn, view.driven_side, grid.x_a)  # out of the driven flank, negated
@@ -231,8 +229,12 @@ def test_zone_grid_gap_limit_and_modifications(scene):
     crowned, cinfo, _ = zone_grid(
         zn, drv, dvn, 0.7, modifications=mods, gap_limit=40 * UM, e_star=ES
     )
-    # the crown opens the face ends: fewer points there, and the modification enters g0
-    assert crowned.n < wide.n
+    # a lead crown lifts every section's separation by the same amount across the section,
+    # and the band is measured from each section's smallest: the same cells as without it
+    # (a band measured from zero would lose the face ends); the modification enters g0
+    assert crowned.n == wide.n
+    assert np.abs(crowned.x_a - wide.x_a).max() < 1e-9
+    assert np.all(crowned.gap0 - cinfo.reference < 40 * UM)
     assert np.all(crowned.gap0 >= cinfo.mod_a - 1e-12)
     z = crowned.x_a[:, 2]
     b = drv.gear.face_width
@@ -284,7 +286,7 @@ def _coast(scene, zi):
 @pytest.mark.parametrize("zi", [0, 1])
 def test_coast_zone_grid_on_the_coast_flanks(scene, zi):
     zn, cz, drv, dvn = _coast(scene, zi)
-    grid, info, link = zone_grid(cz, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES, relative=True)
+    grid, info, link = zone_grid(cz, drv, dvn, 0.7, gap_limit=40 * UM, e_star=ES)
     line, linfo = flank_grid(cz, drv, dvn, 0.7)
     j_n = STUDY.gearset.meshes[zi].normal_backlash
     assert grid.name == cz.name and info.flanks == "coast" and link.coarse.n > 0
@@ -318,27 +320,36 @@ def test_coast_zone_grid_on_the_coast_flanks(scene, zi):
     assert abs(grid.n - drive.n) < 0.05 * drive.n
 
 
-def test_coast_zone_keeps_the_face_ends_under_a_crown(scene):
-    """A lead crown larger than the gap limit: the drive zone grid (absolute limit) drops the
-    face ends, the coast zone grid (limit relative to each section's smallest separation)
-    keeps every section, its g0 there the backlash plus the crown."""
+def test_zone_grids_keep_the_face_ends_under_a_crown(scene):
+    """A lead crown larger than the gap limit (60 um against 40): both zone grids, drive and
+    coast, hold the cells of every section within the limit of that section's smallest
+    separation, so the face ends, which the crown opens and a tilt closes again, stay on
+    the grid (a limit measured from zero on the drive flanks drops every section beyond
+    |z| = 0.82 bs/2, where the crown passes 40 um, and the test fails there). Each
+    section's smallest g0 is the crown there (drive) or the backlash plus it (coast), and
+    FlankGridInfo.reference holds it per cell."""
     zn, cz, drv, dvn = _coast(scene, 0)
     crown = 60.0
     mods = {drv.gear_name: FlankModifications(lead_crown_um=crown)}
     kw = dict(modifications=mods, gap_limit=40 * UM, e_star=ES)
-    drive, _, _ = zone_grid(zn, drv, dvn, 0.7, **kw)
-    coast, _, _ = zone_grid(cz, drv, dvn, 0.7, relative=True, **kw)
     b = min(drv.gear.face_width, dvn.gear.face_width)  # the crown is over the sun's face
     bs = drv.gear.face_width
-    # the crown passes 40 um at |z| = bs/2 sqrt(40/60) = 0.82 bs/2: no drive cell beyond
-    assert np.abs(drive.x_a[:, 2]).max() < 0.83 * bs / 2
-    z = coast.x_a[:, 2]
-    assert np.abs(z).max() > 0.95 * b / 2 and z.min() < -0.95 * b / 2
-    # each section's smallest coast g0: j_n + the crown there (1e-9 mm as above)
     j_n = STUDY.gearset.meshes[0].normal_backlash
-    for zs in np.unique(np.round(z, 9))[[0, -1]]:
-        k = np.abs(z - zs) < 1e-9
-        assert coast.gap0[k].min() == pytest.approx(j_n + crown * UM * (2 * zs / bs) ** 2, abs=1e-9)
+    for view, g_min in ((zn, 0.0), (cz, j_n)):
+        grid, info, _ = zone_grid(view, drv, dvn, 0.7, **kw)
+        z = grid.x_a[:, 2]
+        assert z.max() > 0.95 * b / 2 and z.min() < -0.95 * b / 2, view.flanks
+        assert info.gap_limit == pytest.approx(40 * UM, rel=1e-15)
+        assert np.all(grid.gap0 - info.reference < 40 * UM + 1e-9)
+        for zs in np.unique(np.round(z, 9))[[0, -1]]:
+            k = np.abs(z - zs) < 1e-9
+            expect = g_min + crown * UM * (2 * zs / bs) ** 2
+            assert grid.gap0[k].min() == pytest.approx(expect, abs=1e-9), view.flanks
+            # the reference is the section's sampled minimum (ZONE_SAMPLES over the profile,
+            # ~0.015 mm apart): above the true one by at most (0.0075 mm)^2 / (2 R) with
+            # R > 3 mm, i.e. < 1e-5 mm (measured 2e-7 mm)
+            assert np.all(info.reference[k] >= expect - 1e-12), view.flanks
+            assert info.reference[k] == pytest.approx(expect, abs=1e-5), view.flanks
 
 
 def test_coast_zone_falls_back_to_its_line_grid(scene, monkeypatch):

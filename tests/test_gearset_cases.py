@@ -59,6 +59,26 @@ def test_bad_fields_name_the_field(path, value, match):
         parse_gearset(_mutated(path, value), "case1.toml")
 
 
+def test_a_face_too_narrow_to_read_is_refused_before_solving():
+    """1 mm faces used to solve to zero contact stress and no K_Hbeta (every cell within the
+    edge bands, one module from each face end): refused, naming the gear, the field and
+    the least width; 4 modules (the shipped module 2.5: 10 mm) is accepted."""
+    import math
+
+    from cases.gearset import MIN_FACE_MODULES
+    from postprocess.mesh_stress import FACE_BAND_MODULES
+
+    assert MIN_FACE_MODULES >= 2 * FACE_BAND_MODULES + 2  # two modules of interior at least
+    m_n = load_gearset("case1").gears["pinion"].normal_module
+    with pytest.raises(CaseError, match=r"case1.toml: gears.pinion: face_width = 1 mm: must be"):
+        parse_gearset(_mutated(["gears", "pinion", "face_width"], 1.0), "case1.toml")
+    least = MIN_FACE_MODULES * m_n
+    narrow = _mutated(["gears", "pinion", "face_width"], math.nextafter(least, 0.0))
+    with pytest.raises(CaseError, match=f"at least 4 normal modules \\({least:g} mm here\\)"):
+        parse_gearset(narrow, "case1.toml")
+    parse_gearset(_mutated(["gears", "pinion", "face_width"], least), "case1.toml")
+
+
 def test_unknown_gearset_lists_available():
     with pytest.raises(CaseError, match="available: case1, case2"):
         load_gearset("case9")

@@ -71,7 +71,7 @@ from studies.convergence.scatter import carried_scatter
 from studies.files import ResultFileError, read_json, write_json
 from studies.memory import mem_available_gb
 from studies.provenance import code_hash, git_revision, utc_stamp
-from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded
+from studies.uncertainty import RECORDS, STUDY_FILE, match_key, recorded, same_match
 
 LADDER_DEGREE = 1
 POSITIONS_NOTE = {
@@ -391,7 +391,7 @@ def _record_of(case, records: Path, option: str) -> tuple[Path, dict]:
     if not path.is_file():
         raise InputError(f"{option}: no record of {case.name} in {records}")
     rec = read_json(path)
-    if rec.get("match") != match_key(case):
+    if not same_match(rec.get("match"), match_key(case)):
         raise InputError(
             f"{option}: the record {path} is of another gear set, scene or numerics than "
             f"{case.name}'s (record it again)"

@@ -23,6 +23,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 
 from postprocess.run_scalars import variant
+from studies.uncertainty import same_match
 
 #: a variant's value groups (:func:`studies.convergence.sector_sizes.solve_variant`) and the
 #: convergence study's scalar keys they are read as
@@ -105,7 +106,7 @@ def carried_scatter(old: Mapping, new: Mapping) -> list[dict]:
     scatter is the sectors' (their meshes, which the inputs and level fix, and each entry
     names the code that measured it), so solving the ladder again does not remove it: a
     record that dropped it would print a smaller ± with nothing to show why."""
-    if not old.get("sector_scatter") or old.get("match") != new.get("match"):
+    if not old.get("sector_scatter") or not same_match(old.get("match"), new.get("match")):
         return []
     if old.get("case_level") != new.get("case_level"):
         return []
