@@ -29,6 +29,7 @@ from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
 from solvers.body_store import BodyStore
 from solvers.elastic_body import LinearSolver
+from solvers.flank_grid import flank_contact_pairs, is_coast, mesh_name
 from solvers.gear_train import bearing_stiffness, build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
@@ -76,6 +77,34 @@ def check_root_stress(study, scene) -> None:
             f"root fillets, and the {study.model.scene} scene with numerics.root_fillets = "
             f"{study.numerics.root_fillets!r} refines none: choose 'submodel' (read on "
             "submodels, any fillets) or 'none', or root_fillets = 'refined'"
+        )
+
+
+def check_coast_backlash(study, scene) -> None:
+    """:class:`cases.gearset.CaseError` where a mesh's flank modifications add more material
+    to its coast flanks than the normal backlash leaves: the flanks would start inside each
+    other (a lead slope f_Hb adds f_Hb / 2 at one face end of each flank,
+    :mod:`gears.microgeometry`), a set that cannot be assembled. Read on the coast contact
+    lines at this position (every section of the face lies on one of them; the lead
+    modifications vary along the face only), before anything is meshed."""
+    mods = {g: m for g, m in train_inputs(study).modifications.items() if not m.is_zero}
+    if not mods:
+        return
+    grids, _ = flank_contact_pairs(scene, 1.0, None, None, modifications=mods)
+    for name, (grid, info) in grids.items():
+        if not is_coast(name):
+            continue
+        k = int(np.argmin(grid.gap0))
+        if grid.gap0[k] > 0.0:
+            continue
+        j_n = float(info.dev_a[k] + info.dev_b[k])
+        raise CaseError(
+            f"{study.name}: the coast flanks of mesh {mesh_name(name)} start "
+            f"{-grid.gap0[k] * 1e3:.0f} um inside each other at z = {grid.x_a[k, 2]:.1f} mm: "
+            f"the flank modifications of {', '.join(sorted(mods))} add "
+            f"{(j_n - grid.gap0[k]) * 1e3:.0f} um of material there against a normal backlash "
+            f"of {j_n * 1e3:.0f} um (a lead slope adds half its value at one face end of each "
+            "flank): reduce the modifications or set a larger backlash"
         )
 
 

@@ -85,7 +85,13 @@ from studies.cli import (
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
 from studies.plausibility import input_warnings, plausibility_warnings
-from studies.position import check_root_stress, roll_angles, solve_position, study_scene
+from studies.position import (
+    check_coast_backlash,
+    check_root_stress,
+    roll_angles,
+    solve_position,
+    study_scene,
+)
 from studies.progress import LoopClock, Progress
 from studies.provenance import code_hash, provenance
 from studies.ranks import Ranks
@@ -204,6 +210,7 @@ def run_study(
     except INPUT_ERRORS as exc:
         raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
     check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
+    check_coast_backlash(study, scene)  # a set whose modifications eat its backlash
     for w in input_warnings(study):
         progress.warn(w)
     own = ranks is None

@@ -414,3 +414,37 @@ def test_lead_slope_against_the_tilt_recentres_the_pattern(gb, store):
     assert abs(sloped["ZR"]) < 0.3 * abs(gb["ZR"])
     assert sloped["My_pin"] > gb["My_pin"]  # towards the centred (rigid) value
     assert sloped["coast_force_N"] == 0.0
+
+
+def test_modifications_that_eat_the_backlash_are_refused_before_meshing(tmp_path, capsys):
+    """A lead slope adds half its value at one face end of each flank: 150 um on the pinion
+    leaves 14 um of case 1's 89 um normal backlash on the sun mesh's coast flanks, 500 um
+    would start them 152 um inside each other (a set that cannot be assembled, which used to
+    solve with the coast flanks interfering from the start). Refused with the mesh, the
+    overlap and the backlash, by the command line with exit 2 before anything is meshed."""
+    import dataclasses
+
+    from studies.console import main
+    from studies.position import check_coast_backlash, study_scene
+
+    gb = load_study_case("1-GB")
+    for slope, bad in ((150.0, False), (500.0, True)):
+        study = dataclasses.replace(gb, gearset=_set({"pinion": {"lead_slope_um": slope}}))
+        if not bad:
+            check_coast_backlash(study, study_scene(study, 0.0))
+            continue
+        with pytest.raises(CaseError, match=r"coast flanks of mesh sun-pinion start 15\d um"):
+            check_coast_backlash(study, study_scene(study, 0.0))
+    from cases.gearset import GEARSET_DIR
+
+    text = (GEARSET_DIR / "case1.toml").read_text().replace('name = "case1"', 'name = "sloped"')
+    (tmp_path / "sloped.toml").write_text(
+        text + "\n[gears.pinion.modifications]\nlead_slope_um = 500.0\n"
+    )
+    case = tmp_path / "sloped_case.toml"
+    own = (GEARSET_DIR.parent / "1-GB.toml").read_text()
+    case.write_text(own.replace('gearset = "case1"', 'gearset = "sloped.toml"'))
+    assert main(["run", str(case), "--level", "0", "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "start 15" in err and "Traceback" not in err
+    assert not (tmp_path / "out" / "1-GB" / "positions").exists()
