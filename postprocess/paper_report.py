@@ -86,12 +86,33 @@ def _json(path: Path) -> dict | None:
 
 def _summaries(results: Path) -> list[tuple[Path, dict]]:
     """(folder, summary) of every case under ``results`` (one and two levels deep)."""
-    found = []
+    return _read_summaries(results)[0]
+
+
+def _read_summaries(results: Path) -> tuple[list[tuple[Path, dict]], list[str]]:
+    """(folder, summary) of every case under ``results`` (one and two levels deep), and a
+    line per case folder left out: a ``summary.json`` that cannot be read or is not a case
+    summary, and a folder of solved positions without one (a run that was interrupted or
+    whose every position failed; ``positions/`` keeps what it finished)."""
+    found, missed = [], []
     for path in sorted([*results.glob("*/summary.json"), *results.glob("*/*/summary.json")]):
         s = _json(path)
-        if s and "inputs" in s and "positions" in s:
+        rel = path.relative_to(results)
+        if s and isinstance(s, dict) and "inputs" in s and "positions" in s:
             found.append((path.parent, s))
-    return found
+        elif s is None:
+            missed.append(f"`{rel}`: cannot be read (not JSON, or cut short)")
+        else:
+            missed.append(f"`{rel}`: not a case summary (no inputs or positions)")
+    for pos in sorted([*results.glob("*/positions"), *results.glob("*/*/positions")]):
+        if pos.is_dir() and not (pos.parent / "summary.json").exists():
+            n = len(list(pos.glob("*.json")))
+            missed.append(
+                f"`{pos.parent.relative_to(results)}/`: {n} solved position file(s) and no "
+                "summary.json (the run was interrupted or every position failed; run it again "
+                "to reuse them)"
+            )
+    return found, missed
 
 
 def _link(target: Path, results: Path, text: str | None = None) -> str:
@@ -237,6 +258,10 @@ def _cases_section(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
     if not runs:
         lines += ["None yet.", ""]
     lines += failed_positions_lines({f"{s['case']} ({f.name})": s for f, s in runs})
+    missed = _read_summaries(results)[1]
+    if missed:
+        lines += ["**Case folders not in this report:**", ""]
+        lines += [f"- {m}" for m in missed] + [""]
     return lines
 
 
