@@ -39,20 +39,24 @@ def test_bad_input_is_refused_before_any_solve(monkeypatch, tmp_path, capsys, ar
     assert not (tmp_path / "out").exists()
 
 
+#: a solved position as the study reads it (three planets, equal shares, no root stress)
+POS = {
+    "roll": 0.0,
+    "K_gamma": 1.0,
+    "torque_balance_rel": 0.0,
+    "bending_stress": None,
+    "branches": [
+        {"load_share": 1.0, "angle_deg": a, "My_pin": 1.0, "Mx_pin": 0.0}
+        for a in (0.0, 120.0, 240.0)
+    ],
+}
+
+
 def test_a_failed_row_stops_the_study_and_keeps_the_rows_before_it(monkeypatch, tmp_path, capsys):
     """A solve that fails ends the study with exit 1 and one line naming the row; the rows
     solved before it stay in pin_errors.json (every rank agrees on the failure first,
     studies.ranks, so none is left waiting in the next solve)."""
-    pos = {
-        "roll": 0.0,
-        "K_gamma": 1.0,
-        "torque_balance_rel": 0.0,
-        "bending_stress": None,
-        "branches": [
-            {"load_share": 1.0, "angle_deg": a, "My_pin": 1.0, "Mx_pin": 0.0}
-            for a in (0.0, 120.0, 240.0)
-        ],
-    }
+    pos = POS
     calls = []
 
     def solve(*a, **k):
@@ -70,6 +74,28 @@ def test_a_failed_row_stops_the_study_and_keeps_the_rows_before_it(monkeypatch, 
     assert "pin error 10 um" in err and "diverged" in err and "Traceback" not in err
     rows = json.loads((tmp_path / "pin_errors.json").read_text())["rows"]
     assert [r["error_um"] for r in rows] == [0.0]
+
+
+def test_every_row_is_solved_on_one_band_widened_for_the_largest_error(monkeypatch, tmp_path):
+    """A pin error of e moves the most loaded planet's approach by up to |e|, so the rows
+    share one zone band widened by max|e| / REACH_FRACTION (solvers.zone_reach): 1-GB's
+    40 um with errors up to 25 um gives 90 um. Without it the +25 um row's reach on
+    pinion 3's ring mesh (22.7 um, level 0) was refused against 40 um."""
+    limits = []
+
+    def solve(study, *a, **k):
+        limits.append(study.numerics.zone_gap_limit_um)
+        return POS
+
+    monkeypatch.setattr(pin_errors, "solve_position", solve)
+    monkeypatch.setattr(pin_errors, "_plot", lambda *a: None)
+    res = pin_errors.run(
+        "1-GB", [0.0, 25.0, -10.0], tmp_path, 0, "tangential", [0.0, 1e6], MPI.COMM_SELF
+    )
+    assert limits == [90.0] * 6 and res["zone_gap_limit_um"] == 90.0
+    base = pin_errors.load_study_case("1-GB").numerics
+    assert pin_errors.zone_gap_limit_for(base, [0.0]) == base.zone_gap_limit_um
+    assert pin_errors.zone_gap_limit_for(base, [-1000.0]) == pin_errors.LIMIT_CEILING_UM
 
 
 ROWS = [

@@ -9,16 +9,17 @@ The study case is solved in the system scene (every pinion on the elastic carrie
 floating) at one mesh position with the pin of pinion 1 displaced in the carrier by each
 error (um, tangential along the sun's rotation or radial; the other pins exact). The error
 enters as the rest offset of that pinion's bearing springs (:mod:`solvers.gear_train`), so
-every solve reuses the same body factorizations. Each sun radial support stiffness given is
-a series of its own (0: floating; a floating sun with three planets shares the load by
-statics, so a pin error barely changes the shares, exactly not for forces on the planes of
-action; a supported sun does not). With ``--root-stress submodel`` (the default) each solve
-also reads the root stress on the submodels of each gear's most loaded planet mesh
-(:func:`solvers.root_submodel.most_loaded`), the value a pin error raises. Writes
-``pin_errors.json`` (per support and error: the load shares, K_gamma = largest share, the
-moments of each pinion, the root stress per gear-set key and the planet it was read on;
-rewritten after every solve, so a study that fails part way keeps what it finished) and
-``pin_errors.png``.
+every solve reuses the same body factorizations. With the zone contact model every row is
+solved on one band widened for the largest error (:func:`zone_gap_limit_for`). Each sun
+radial support stiffness given is a series of its own (0: floating; a floating sun with
+three planets shares the load by statics, so a pin error barely changes the shares, exactly
+not for forces on the planes of action; a supported sun does not). With ``--root-stress
+submodel`` (the default) each solve also reads the root stress on the submodels of each
+gear's most loaded planet mesh (:func:`solvers.root_submodel.most_loaded`), the value a pin
+error raises. Writes ``pin_errors.json`` (per support and error: the load shares, K_gamma =
+largest share, the moments of each pinion, the root stress per gear-set key and the planet
+it was read on; rewritten after every solve, so a study that fails part way keeps what it
+finished) and ``pin_errors.png``.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ from cases.study_case import load_study_case
 from meshing import sizing
 from postprocess.summary import cycle_bending
 from solvers.body_store import BodyStore
+from solvers.zone_reach import LIMIT_CEILING_UM, REACH_FRACTION
 from studies.cli import InputError, StudyFailed, guarded, one_line
 from studies.files import on_root, write_json
 from studies.paper.system_report import root_stress_ratios
@@ -49,7 +51,24 @@ from studies.settings import RunSettings
 ROOT_STRESS = ("submodel", "none")
 
 
-def _with_error(study, error_um: float, direction: str, k_sun: float, root_stress: str):
+def zone_gap_limit_for(numerics, errors_um: list[float]) -> float:
+    """The zone grids' gap limit (um) a series of pin errors is solved with: the case's
+    limit L widened to L + max|e| / REACH_FRACTION (at most LIMIT_CEILING_UM).
+
+    A pin error e moves one planet's mesh approaches by at most |e| along their normals,
+    and the load it sheds or takes moves the most loaded planet's approach by at most |e|
+    (rigid meshes, N planets on one sun rotation: the erroneous planet's approach shifts
+    by e (N - 1) / N, the others' by e / N). The reach of the load into the band
+    (:mod:`solvers.zone_reach`) grows with the approach, so the band widens by what keeps
+    the reach check's margin; one limit for every row, so the rows differ by the error
+    only. A reach the widened band does not hold is still refused by the solve."""
+    widen = max((abs(e) for e in errors_um), default=0.0) / REACH_FRACTION
+    return min(LIMIT_CEILING_UM, numerics.zone_gap_limit_um + widen)
+
+
+def _with_error(
+    study, error_um: float, direction: str, k_sun: float, root_stress: str, gap_limit_um: float
+):
     n = study.gearset.planets
     pair = (error_um, 0.0) if direction == "tangential" else (0.0, error_um)
     errors = (pair,) + ((0.0, 0.0),) * (n - 1)
@@ -59,6 +78,8 @@ def _with_error(study, error_um: float, direction: str, k_sun: float, root_stres
     system.check(n, f"{study.name} (options --errors, --sun-stiffness)")
     model = dataclasses.replace(study.model, scene="system")
     numerics = dataclasses.replace(study.numerics, root_stress=root_stress)
+    if numerics.contact_model == "zone":
+        numerics = dataclasses.replace(numerics, zone_gap_limit_um=gap_limit_um)
     return dataclasses.replace(study, system=system, model=model, numerics=numerics)
 
 
@@ -81,8 +102,9 @@ def run(
     except ValueError as exc:
         raise InputError(f"{exc} (option --level)") from exc
     base = load_study_case(case)
+    gap_limit = zone_gap_limit_for(base.numerics, errors)
     studies = [
-        (k, e, _with_error(base, e, direction, k, root_stress))
+        (k, e, _with_error(base, e, direction, k, root_stress, gap_limit))
         for k in sun_stiffness
         for e in errors
     ]
@@ -94,6 +116,7 @@ def run(
         "roll": 0.0,
         "pinion_with_error": 1,
         "root_stress": root_stress,
+        "zone_gap_limit_um": gap_limit if base.numerics.contact_model == "zone" else None,
         "rows": [],
     }
     path = out / "pin_errors.json"
