@@ -10,8 +10,9 @@ system-scene folder), the benchmarks (``bench/*.json``), the convergence studies
 ``make`` (``bench/make_all.json``, :func:`record_wall_time`). It links every case report
 and picture, gives one row per case with its headline numbers (so a case file of one's own,
 run with ``make study``, has its section too), checks the paper's stated trends on the
-numbers, and shows the speed-against-error table of the benchmark. No case is named here:
-cases are told apart by what their summaries hold (gear-set kind, bearing, scene).
+numbers of the paper's own study cases only (:mod:`postprocess.paper_cases`), and shows the
+speed-against-error table of the benchmark. No case is named here: cases are told apart by
+what their summaries hold (gear-set kind, bearing, scene).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from pathlib import Path
 
 from gears.analytic import printed
 from postprocess.failed_positions import failed_positions_lines
+from postprocess.paper_cases import paper_case_difference
 from postprocess.plus_minus import plus_minus
 from postprocess.run_scalars import level_text, row_label
 from postprocess.stress_tables import reported_root_stress
@@ -305,10 +307,20 @@ def _row(folder: Path, s: dict, moments, offsets, results: Path) -> str:
     return "| " + " | ".join(cells) + " |"
 
 
-def _trends_section(runs: list[tuple[Path, dict]]) -> list[str]:
-    """The paper's stated trends, checked on the one-branch runs of each gear-set kind."""
+def _trends_section(results: Path, runs: list[tuple[Path, dict]]) -> list[str]:
+    """The paper's stated trends, checked on the one-branch runs of each gear-set kind of
+    the paper's own study cases (:func:`postprocess.paper_cases.paper_case_difference`);
+    the one-branch runs left out are named with the reason."""
     lines = ["## The paper's conclusions, checked on our numbers", ""]
-    branch = [s for _, s in runs if s.get("scene") == "one_branch"]
+    branch, others = [], []
+    for folder, s in runs:
+        if s.get("scene") != "one_branch":
+            continue
+        why = paper_case_difference(s)
+        if why is None:
+            branch.append(s)
+        else:
+            others.append(f"`{s.get('case')}` in `{folder.relative_to(results)}/` ({why})")
     single = sorted(
         (
             s
@@ -381,7 +393,12 @@ def _trends_section(runs: list[tuple[Path, dict]]) -> list[str]:
                     f"{abs(d['ZR']):.2f} mm: {'yes' if ok else 'NO'}."
                 )
     if len(lines) == 2:
-        lines.append("No one-branch case has been run yet.")
+        lines.append("No one-branch run of the paper's study cases yet.")
+    if others:
+        lines += [
+            "",
+            "Not the paper's cases, so left out of these checks: " + "; ".join(others) + ".",
+        ]
     return [*lines, ""]
 
 
@@ -461,7 +478,7 @@ def write_paper_report(results: Path) -> Path:
     ]
     lines += _wall_section(results)
     lines += _analytic_section(results)
-    lines += _trends_section(runs)
+    lines += _trends_section(results, runs)
     lines += _reports_section(results)
     lines += _cases_section(results, runs)
     lines += _bench_section(results, runs)

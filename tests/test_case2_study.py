@@ -312,8 +312,9 @@ def test_case2_report_of_a_user_case(double, ga, tmp_path):
 
 
 def test_one_page_report_and_wall_time(single, double, tmp_path):
-    """results/report.md lists every case run (a user's too) and the wall time of the last
-    full make, recorded from the start stamp (then removed, so a report alone keeps it)."""
+    """results/report.md lists every case run (a user's too, named apart from the paper's
+    conclusions) and the wall time of the last full make, recorded from the start stamp
+    (then removed, so a report alone keeps it)."""
     out1, _ = single
     stamp = out1 / "bench" / ".make_start"
     stamp.parent.mkdir(parents=True, exist_ok=True)
@@ -322,6 +323,8 @@ def test_one_page_report_and_wall_time(single, double, tmp_path):
     assert 89.0 < rec["wall_s"] < 600.0 and rec["within_goal"] and not stamp.exists()
     text = write_paper_report(out1).read_text()
     assert "| my_single | [my_single](my_single) | one_branch |" in text
+    # a user's case has its row but is not one of the paper's cases its conclusions check
+    assert "left out of these checks: `my_single` in `my_single/` (not one of the shipped" in text
     assert f"**{rec['wall_s'] / 60:.1f} min**, within the 20-minute goal" in text
     assert record_wall_time(out1, stamp) is None  # no stamp: nothing recorded again
     assert math.isclose(
