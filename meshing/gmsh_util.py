@@ -9,12 +9,31 @@ imported lazily (heavy), so this module stays importable without it.
 from __future__ import annotations
 
 import contextlib
+import signal
+import threading
 
 import numpy as np
 
 from meshing import sizing
 
 # gmsh is heavy: it is imported lazily, inside session() and write_msh().
+
+
+def initialize() -> None:
+    """Initialize gmsh (not interruptible: Ctrl-C stays Python's) and put back the Python
+    handlers of SIGTERM and SIGINT: gmsh's first initialize resets the process's signal
+    handlers at the C level (OpenCASCADE's), while Python still reports its own, so a
+    ``kill`` of a serial run after its first mesh ended it with status 143 instead of the
+    documented interrupt (exit 130, :func:`studies.cli.interrupt_on_sigterm`, factor
+    folders removed). Only the main thread can set handlers; elsewhere none were set."""
+    import gmsh
+
+    main = threading.current_thread() is threading.main_thread()
+    kept = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT)} if main else {}
+    gmsh.initialize(interruptible=False)
+    for signum, handler in kept.items():
+        if handler is not None:  # None: set outside Python, nothing to put back
+            signal.signal(signum, handler)
 
 
 @contextlib.contextmanager
@@ -25,7 +44,7 @@ def session(model_name: str, verbose: bool = False):
 
     owner = not gmsh.isInitialized()
     if owner:
-        gmsh.initialize(interruptible=False)
+        initialize()
     # options are global to a gmsh session that another module may have started and left
     # open (solvers.simple_meshes): from the defaults, so a mesh is the same in any process
     gmsh.option.restoreDefaults()

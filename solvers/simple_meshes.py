@@ -20,6 +20,8 @@ import gmsh
 import numpy as np
 from mpi4py import MPI
 
+from meshing import gmsh_util
+
 
 @dataclass
 class MeshBundle:
@@ -32,7 +34,7 @@ class MeshBundle:
 
 def _start(name: str) -> None:
     if not gmsh.isInitialized():
-        gmsh.initialize(interruptible=False)
+        gmsh_util.initialize()
     # gmsh options are global to the session and outlive a model: start from the defaults,
     # so a mesh does not depend on what was meshed before in this process (a body mesh's
     # HXT mesher left set gave the roller 4083 cells instead of 4809)
