@@ -201,16 +201,8 @@ def run_study(
     across positions and cases (factorized once; default: kept for this study's
     positions)."""
     progress = Progress(comm) if progress is None else progress
-    options = CaseOptions() if options is None else options
-    study, settings = options.applied(load_study_case(name_or_path))
+    study, settings, out = prepare_study(name_or_path, out_root, options)
     store = BodyStore() if store is None else store
-    out = _output_folder(study, out_root)
-    try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
-        scene = study_scene(study, 0.0)
-    except INPUT_ERRORS as exc:
-        raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
-    check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
-    check_coast_backlash(study, scene)  # a set whose modifications eat its backlash
     for w in input_warnings(study):
         progress.warn(w)
     own = ranks is None
@@ -220,6 +212,26 @@ def run_study(
     finally:
         if own:
             ranks.free()
+
+
+def prepare_study(
+    name_or_path, out_root: Path, options: CaseOptions | None = None
+) -> tuple[StudyCase, RunSettings, Path]:
+    """The study case with ``options`` applied, its run settings and its output folder,
+    checked as input before anything is solved or written: the case file and its gear set,
+    the options, the scene's geometry (milliseconds), the root-stress setting against the
+    scene and the flank modifications against the backlash. Raises the input errors of
+    :data:`~studies.cli.INPUT_ERRORS`."""
+    options = CaseOptions() if options is None else options
+    study, settings = options.applied(load_study_case(name_or_path))
+    out = _output_folder(study, out_root)
+    try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
+        scene = study_scene(study, 0.0)
+    except INPUT_ERRORS as exc:
+        raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
+    check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
+    check_coast_backlash(study, scene)  # a set whose modifications eat its backlash
+    return study, settings, out
 
 
 def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress, ranks, store):
@@ -526,6 +538,9 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m stud
     # serial: SIGTERM (kill, a batch system's limit) stops as Ctrl-C does, finished positions
     # kept and the finally blocks run; on several ranks it keeps its default (one rank
     # unwinding alone would wait in a collective for the others)
+    if not _inputs_valid(args, comm, progress, ranks):
+        ranks.free()
+        return EXIT_INVALID_INPUT
     try:
         with interrupt_on_sigterm():
             for name in args.cases:  # a failed case does not stop the others
@@ -540,6 +555,39 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m stud
     return status
 
 
+def _options(args: argparse.Namespace) -> CaseOptions:
+    return CaseOptions(
+        level=args.level,
+        positions=args.positions,
+        scene=args.scene,
+        root_fillets=args.root_fillets,
+        out_of_core=args.out_of_core,
+    )
+
+
+def _inputs_valid(args: argparse.Namespace, comm, progress: Progress, ranks: Ranks) -> bool:
+    """Every case of the command line checked as input (:func:`prepare_study`) before any
+    is solved, so code 2 keeps its meaning with several cases: one invalid case file beside
+    valid ones stops the command before a position is solved, each invalid one named on a
+    line. Failures other than input are left to the run, which reports them."""
+    valid = True
+    for name in args.cases:
+        failure = None
+        try:
+            prepare_study(name, args.out, _options(args))
+        except INPUT_ERRORS as exc:
+            failure = (EXIT_INVALID_INPUT, with_path(one_line(exc), name), "")
+        except Exception:  # not input: the run meets it again and reports it
+            pass
+        errors = ranks.agree(failure, f"case {name}")
+        if errors:
+            progress.error(dict(errors).get(0, errors[0][1])[1])
+            valid = False
+    if not valid and len(args.cases) > 1:
+        progress.error("nothing was solved: correct the case(s) above or leave them out")
+    return valid
+
+
 def run_case(
     name: str,
     args: argparse.Namespace,
@@ -552,15 +600,14 @@ def run_case(
     (every rank agrees on the outcome first, so none goes on alone)."""
     failure = None
     try:
-        options = CaseOptions(
-            level=args.level,
-            positions=args.positions,
-            scene=args.scene,
-            root_fillets=args.root_fillets,
-            out_of_core=args.out_of_core,
-        )
         run_study(
-            name, args.out, comm, options=options, progress=progress, ranks=ranks, store=store
+            name,
+            args.out,
+            comm,
+            options=_options(args),
+            progress=progress,
+            ranks=ranks,
+            store=store,
         )
     except KeyboardInterrupt:
         progress.error(f"{name}: interrupted; finished positions are kept")

@@ -240,6 +240,24 @@ def test_global_root_stress_on_coarse_fillets_is_refused_before_any_solve(
     assert "Traceback" not in err
 
 
+def test_an_invalid_case_beside_a_valid_one_stops_the_command_before_any_solve(
+    monkeypatch, tmp_path, capsys
+):
+    """Code 2 means nothing was solved (docs/cli.md) with several cases too: every case is
+    checked as input first. Before, the valid case was solved and the command still
+    ended with 2, the largest code."""
+    bad = tmp_path / "broken.toml"
+    bad.write_text(Path(load_study_case("1-GA").path).read_text().replace("1-GA", "broken"))
+    bad.write_text(bad.read_text().replace("poisson_ratio = 0.3", "poisson_ratio = 0.7"))
+    calls = []
+    monkeypatch.setattr(study_run, "solve_position", lambda *a, **k: calls.append(a))
+    code = study_run.main(["1-GA", str(bad), "--level", "0", "--out", str(tmp_path / "res")])
+    err = capsys.readouterr().err
+    assert code == 2 and calls == [] and not (tmp_path / "res").exists()
+    assert "broken.toml" in err and "poisson_ratio" in err and "Traceback" not in err
+    assert "nothing was solved" in err
+
+
 class _Meshed(Exception):
     """Raised by the stand-in mesh loader: the sizes solve_position asked for."""
 
