@@ -226,8 +226,13 @@ def test_case2_pair_on_stiff_carrier_matches_the_branch(stiff_system, branch_ga)
 @pytest.mark.heavy
 def test_case2_system_parallel_equals_serial():
     """The double-pinion system scene (2B-GB, steel carrier) on 2 ranks against a serial
-    solve: MUMPS on another partition changes round-off only (1e-6 is a wide margin)."""
+    solve: MUMPS on another partition changes round-off only (1e-6 is a wide margin). On
+    the case's 40 um zone band the solve is refused by the reach check (solvers.zone_reach:
+    23.9 um on sun-SP1 at level 0, the soft bearing's tilt on the elastic carrier), so it
+    runs on the 100 um the check names; what is compared is the same either way."""
     study = no_root_stress(as_system(load_study_case("2B-GB")))  # moments only
+    numerics = dataclasses.replace(study.numerics, zone_gap_limit_um=100.0)
+    study = dataclasses.replace(study, numerics=numerics)
     par = solve_position(study, 0.0, MPI.COMM_WORLD, RunSettings(level=0))
     ser = serial_on_rank0(lambda comm: solve_position(study, 0.0, comm, RunSettings(level=0)))
     scale = max(abs(ser[k]) for k in LOA)
