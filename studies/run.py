@@ -538,11 +538,10 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m stud
     # serial: SIGTERM (kill, a batch system's limit) stops as Ctrl-C does, finished positions
     # kept and the finally blocks run; on several ranks it keeps its default (one rank
     # unwinding alone would wait in a collective for the others)
-    if not _inputs_valid(args, comm, progress, ranks):
-        ranks.free()
-        return EXIT_INVALID_INPUT
     try:
         with interrupt_on_sigterm():
+            if not _inputs_valid(args, comm, progress, ranks):
+                return EXIT_INVALID_INPUT
             for name in args.cases:  # a failed case does not stop the others
                 status = max(status, run_case(name, args, comm, progress, ranks, store))
                 if status == EXIT_INTERRUPTED:
@@ -576,11 +575,13 @@ def _inputs_valid(args: argparse.Namespace, comm, progress: Progress, ranks: Ran
         try:
             prepare_study(name, args.out, _options(args))
         except INPUT_ERRORS as exc:
-            failure = (EXIT_INVALID_INPUT, with_path(one_line(exc), name), "")
+            failure = (EXIT_INVALID_INPUT, with_path(one_line(exc), name), traceback.format_exc())
         except Exception:  # not input: the run meets it again and reports it
             pass
         errors = ranks.agree(failure, f"case {name}")
         if errors:
+            if args.traceback and failure is not None:
+                sys.stderr.write(f"[rank {comm.rank}] {failure[2]}")
             progress.error(dict(errors).get(0, errors[0][1])[1])
             valid = False
     if not valid and len(args.cases) > 1:

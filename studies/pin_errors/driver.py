@@ -51,9 +51,10 @@ from studies.settings import RunSettings
 ROOT_STRESS = ("submodel", "none")
 
 
-def zone_gap_limit_for(numerics, errors_um: list[float]) -> float:
+def zone_gap_limit_for(numerics, errors_um: list[float]) -> float | None:
     """The zone grids' gap limit (um) a series of pin errors is solved with: the case's
-    limit L widened to L + max|e| / REACH_FRACTION (at most LIMIT_CEILING_UM).
+    limit L widened to L + max|e| / REACH_FRACTION (at most LIMIT_CEILING_UM); None for
+    a line grid, which has no band.
 
     A pin error e moves one planet's mesh approaches by at most |e| along their normals,
     and the load it sheds or takes moves the most loaded planet's approach by at most |e|
@@ -62,12 +63,19 @@ def zone_gap_limit_for(numerics, errors_um: list[float]) -> float:
     (:mod:`solvers.zone_reach`) grows with the approach, so the band widens by what keeps
     the reach check's margin; one limit for every row, so the rows differ by the error
     only. A reach the widened band does not hold is still refused by the solve."""
+    if numerics.contact_model != "zone":
+        return None
     widen = max((abs(e) for e in errors_um), default=0.0) / REACH_FRACTION
     return min(LIMIT_CEILING_UM, numerics.zone_gap_limit_um + widen)
 
 
 def _with_error(
-    study, error_um: float, direction: str, k_sun: float, root_stress: str, gap_limit_um: float
+    study,
+    error_um: float,
+    direction: str,
+    k_sun: float,
+    root_stress: str,
+    gap_limit_um: float | None,
 ):
     n = study.gearset.planets
     pair = (error_um, 0.0) if direction == "tangential" else (0.0, error_um)
@@ -78,7 +86,7 @@ def _with_error(
     system.check(n, f"{study.name} (options --errors, --sun-stiffness)")
     model = dataclasses.replace(study.model, scene="system")
     numerics = dataclasses.replace(study.numerics, root_stress=root_stress)
-    if numerics.contact_model == "zone":
+    if gap_limit_um is not None:
         numerics = dataclasses.replace(numerics, zone_gap_limit_um=gap_limit_um)
     return dataclasses.replace(study, system=system, model=model, numerics=numerics)
 
@@ -116,7 +124,7 @@ def run(
         "roll": 0.0,
         "pinion_with_error": 1,
         "root_stress": root_stress,
-        "zone_gap_limit_um": gap_limit if base.numerics.contact_model == "zone" else None,
+        "zone_gap_limit_um": gap_limit,
         "rows": [],
     }
     path = out / "pin_errors.json"
