@@ -20,6 +20,7 @@ from system_case import as_system
 from cases.study_case import load_study_case
 from solvers import root_submodel
 from solvers.body_store import BodyStore
+from solvers.elastic_body import ElasticBody
 from studies.case_variants import coarse_root_fillets
 from studies.position import solve_position
 from studies.settings import RunSettings
@@ -162,12 +163,13 @@ def test_reuse_gives_the_same_numbers():
     built, so it alone is solved again from scratch (the first solve is one already)."""
     ga, gc = load_study_case("1-GA"), load_study_case("1-GC")
     store = BodyStore()
-    reused, built, used = [], [], []
+    reused, built, used, bodies = [], [], [], []
     for s, roll in ((ga, 0.0), (ga, 0.05), (gc, 0.05)):
         before = store.reused
         reused.append(solve_position(s, roll, MPI.COMM_SELF, RunSettings(level=0), store=store))
         built.append(store.built)
         used.append(store.reused - before)
+        bodies.append({id(o) for o in store.objects() if isinstance(o, ElasticBody)})
     # the first position builds the three bodies (sun, pinion, ring) and the four root
     # stress submodels (one per gear and loaded side); the next reuses the bodies and builds
     # a submodel only where its run of loaded teeth has another length. GC differs from GA
@@ -176,6 +178,7 @@ def test_reuse_gives_the_same_numbers():
     # reuses the bodies and builds at most its four submodels again
     assert built[0] == 3 + 4 and built[1] <= built[0] + 4 and built[2] <= built[1] + 4
     assert used[1] >= 3 and used[2] >= 3 and used[2] + built[2] - built[1] == 3 + 4
+    assert len(bodies[0]) == 3 and bodies[2] == bodies[1] == bodies[0]  # the same bodies
     fresh = solve_position(gc, 0.05, MPI.COMM_SELF, RunSettings(level=0))
     for k in (*MOMENTS, "ZS", "ZR"):
         assert reused[2][k] == pytest.approx(fresh[k], rel=1e-8, abs=1e-10), k
