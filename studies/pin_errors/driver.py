@@ -181,7 +181,11 @@ def _plot(result: dict, path: Path) -> None:
         return "floating sun" if k_sun == 0 else f"sun on {k_sun:.3g} N/mm"
 
     for k_sun in supports:
-        rows = [r for r in result["rows"] if r["sun_radial_stiffness"] == k_sun]
+        # along the error axis: the rows come in the order the errors were given
+        rows = sorted(
+            (r for r in result["rows"] if r["sun_radial_stiffness"] == k_sun),
+            key=lambda r: r["error_um"],
+        )
         e = [r["error_um"] for r in rows]
         ax.plot(
             e,
