@@ -120,26 +120,41 @@ def _helix_rate(gear) -> float:
 EDGE_MARGIN = 0.02
 
 
-def _room(x: np.ndarray, u: np.ndarray, pg, half: float, n: int = 41) -> np.ndarray:
-    """Largest S <= half with x + s u (|s| <= S) between the form and tip circles of ``pg``.
+def _room(x: np.ndarray, u: np.ndarray, pg, half, n: int = 41) -> np.ndarray:
+    """Largest S <= half with x + s u (|s| <= S) between the form and tip circles of ``pg``
+    (``half`` one value, or one per point).
 
-    Across the contact line the spreading patch runs along the flank profile; near a tip
-    (or the form circle) a full patch would leave the tooth, and the gap operator would find
-    no cell. The patch is then narrowed symmetrically (its weight, the area the point stands
-    for, is unchanged); a floor of half / 20 keeps it a patch.
+    The spreading patch runs across the contact line along the flank profile, and along the
+    line obliquely across it (by tan(beta_b) per unit of face width); near a tip (or the
+    form circle) a full patch would leave the tooth, and the gap operator would find no cell
+    (at a 45 deg helix or the largest grid spacing the along-line half reached 0.1 mm past a
+    tip). The patch is then narrowed symmetrically (its weight, the area the point stands
+    for, is unchanged); a floor of half / 20, at most EDGE_MARGIN / 2, keeps it a patch that
+    stays on the tooth from a point at a tip corner (half / 20 alone took a 5 mm grid's
+    corner patches 0.066 mm past a tip).
     """
     g = pg.gear
     r_lo, r_hi = sorted((g.form_radius, g.tip_radius))
     r_lo, r_hi = r_lo + EDGE_MARGIN, r_hi - EDGE_MARGIN
     c = np.array([*pg.placement.centre])
-    s = np.linspace(-half, half, n)
+    half = np.broadcast_to(np.asarray(half, dtype=float), (len(x),))
+    s = np.linspace(-1.0, 1.0, n)[None, :] * half[:, None]  # (m, n)
     u = np.broadcast_to(u, np.shape(x))  # one direction, or one per point
-    q = x[:, None, :2] - c + s[None, :, None] * u[:, None, :2]
+    q = x[:, None, :2] - c + s[:, :, None] * u[:, None, :2]
     r = np.linalg.norm(q, axis=2)
     bad = (r < r_lo) | (r > r_hi)  # (m, n)
-    dist = np.where(bad, np.abs(s)[None, :], np.inf).min(axis=1)
-    step = s[1] - s[0]
-    return np.clip(dist - step, half / 20, half)
+    dist = np.where(bad, np.abs(s), np.inf).min(axis=1)
+    step = 2.0 * half / (n - 1)
+    return np.clip(dist - step, np.minimum(half / 20, 0.5 * EDGE_MARGIN), half)
+
+
+def _patch_halves(x_a, x_b, along, across, drv, dvn, half_along, half_across) -> np.ndarray:
+    """(m, 2) half sizes of the spreading patches at x_a (driver) and x_b (driven), along
+    the contact line and across it, each narrowed to stay on both flanks (:func:`_room`)."""
+    return np.c_[
+        np.minimum(_room(x_a, along, drv, half_along), _room(x_b, along, dvn, half_along)),
+        np.minimum(_room(x_a, across, drv, half_across), _room(x_b, across, dvn, half_across)),
+    ]
 
 
 def flank_grid(
@@ -223,7 +238,7 @@ def flank_grid(
     if micro is not None:
         mic = mic + np.asarray(micro(zone, x), float).reshape(m)
     tangents = np.broadcast_to(np.stack([tline, t2]), (m, 2, 3)).copy()
-    half_across = np.minimum(_room(x, t2, drv, 0.5 * w_across), _room(x, t2, dvn, 0.5 * w_across))
+    halves = _patch_halves(x, x, tline, t2, drv, dvn, 0.5 * seg, 0.5 * w_across)
     grid = ContactGrid(
         zone.name,
         x.copy(),
@@ -232,7 +247,7 @@ def flank_grid(
         dev_a + dev_b + mic,
         seg * w_across,
         tangents=tangents,
-        half_sizes=np.c_[0.5 * seg, half_across],
+        half_sizes=halves,
         stations=np.arange(m),
         station_length=seg.copy(),
         n_spread=n_spread,
@@ -646,17 +661,24 @@ def zone_grid(
         ln["driven_tooth"] = int(np.round(np.median(th) / pitch_b - 0.25 * sb)) % gb.teeth
     mc = len(xc)
     depth_a = _matching_depth(drv, zone.coast_sides[0], xc, -nc, w_across)
-    depth_b = _matching_depth(dvn, zone.coast_sides[1], xc + dvb_c[:, None] * nc, nc, w_across)
-    half_c = np.minimum(_room(xc, ttc, drv, 0.5 * w_across), _room(xc, ttc, dvn, 0.5 * w_across))
+    xbc = xc + dvb_c[:, None] * nc
+    depth_b = _matching_depth(dvn, zone.coast_sides[1], xbc, nc, w_across)
+    halves_c = _patch_halves(xc, xbc, tlc, ttc, drv, dvn, 0.5 * seg, 0.5 * w_across)
+    half_c = halves_c[:, 1]
+    # the fine cells end inside both tip circles across the line (their width dv), not along it
+    x_b = x + dev_b[:, None] * nk
+    half_fine = np.c_[
+        _patch_halves(x, x_b, tl, tt, drv, dvn, 0.5 * seg, 0.5 * w_across)[:, 0], 0.5 * F["dv"]
+    ]
     coarse_grid = ContactGrid(
         f"{zone.name}#coarse",
         xc,
-        xc + dvb_c[:, None] * nc,
+        xbc,
         nc,
         dva_c + dvb_c + mic_c,
         np.full(mc, seg * w_across),
         tangents=np.stack([tlc, ttc], axis=1),
-        half_sizes=np.c_[np.full(mc, 0.5 * seg), half_c],
+        half_sizes=halves_c,
         stations=np.arange(mc),
         station_length=np.full(mc, seg),
         n_spread=n_spread,
@@ -665,12 +687,12 @@ def zone_grid(
     grid = ContactGrid(
         zone.name,
         x,
-        x + dev_b[:, None] * nk,
+        x_b,
         nk,
         dev_a + dev_b + mic,
         seg * F["dv"],
         tangents=np.stack([tl, tt], axis=1),
-        half_sizes=np.c_[np.full(m, 0.5 * seg), 0.5 * F["dv"]],
+        half_sizes=half_fine,
         stations=F["sec"].astype(int),
         station_length=np.full(mc, seg),
         n_spread=n_spread,

@@ -62,3 +62,40 @@ def depth_points_beyond_the_face(study, level: int) -> int:
 def test_every_matching_point_lies_inside_its_body(beta, tmp_path):
     study = load_study_case(helix_case(tmp_path, beta))
     assert depth_points_beyond_the_face(study, 0) == 0
+
+
+def spread_points_beyond_a_tip(study, spacing: float | None = None) -> float:
+    """The largest distance (mm) a spreading point of any zone grid (fine or coarse) lies
+    outside its body's tip circle, or beyond its face width, over two mesh positions."""
+    settings = RunSettings(level=0, grid_spacing=spacing).resolved(study)
+    worst = 0.0
+    for roll in (0.0, 0.05):
+        scene = study_scene(study, roll)
+        _, pairs = contact_grids(scene, train_inputs(study), settings.spacing)
+        placed = {g.name: g for g in scene.gears}
+        for p in pairs:
+            for grid in (p.grid, p.link.coarse if p.link else None):
+                for side, body in (("a", p.body_a), ("b", p.body_b)):
+                    if grid is None or body not in placed:
+                        continue
+                    g = placed[body].gear
+                    y = placed[body].placement.inverse(grid.spread_points(side)[0])
+                    r = np.hypot(y[:, 0], y[:, 1])
+                    out = g.tip_radius - r if g.internal else r - g.tip_radius
+                    beyond = np.maximum(out, np.abs(y[:, 2]) - 0.5 * g.face_width)
+                    worst = max(worst, float(beyond.max()))
+    return worst
+
+
+@pytest.mark.parametrize("beta, spacing", [(0.0, None), (45.0, None), (45.0, 5.0), (0.0, 5.0)])
+def test_every_spreading_point_lies_on_its_tooth(beta, spacing, tmp_path):
+    """The patch a grid point is spread over stays on both flanks along the contact line as
+    well as across it (solvers.flank_grid._patch_halves): at 45 deg, along the line it
+    reached 0.1 mm past the pinion's tip, beyond the gap operator's bounding-box padding
+    (1e-3 of the body mesh's diagonal, 0.09 mm for this pinion), and every position failed.
+    Bound: 0.045 mm, half that padding. The patch is narrowed along each of its directions
+    alone, so a Gauss point off both axes of a 5 mm grid's large patch still lies up to
+    0.04 mm past a tip (and a coast flank's driven point sits off its driver point by the
+    backlash, 0.02 mm past a tip across the line)."""
+    study = load_study_case(helix_case(tmp_path, beta))
+    assert spread_points_beyond_a_tip(study, spacing) < 0.045
