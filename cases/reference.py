@@ -194,7 +194,9 @@ CASE_FIELDS: dict[str, dict[str, FieldDoc]] = {
             "number",
             "mm",
             _interval(*sc.GRID_SPACING_RANGE, lo_open=True),
-            "Contact grid spacing along the contact line.",
+            "Contact grid spacing along the contact line. The grid's cells grow as "
+            "1 / spacing^2 and its compliance is dense: a spacing whose grid would not fit "
+            "in the machine's memory is refused before meshing, with the spacing that fits.",
             "the flank element size of the level",
         ),
         "contact_model": FieldDoc(

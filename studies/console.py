@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import sys
 from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
 
 from studies.cli import EXIT_INVALID_INPUT, EXIT_OK, exit_code, guarded, one_line, with_path
 
@@ -81,12 +82,12 @@ def check(argv: list[str]) -> int:
     )
     ap.add_argument("cases", nargs="+", help="case names (cases/<name>.toml) or case file paths")
     args = ap.parse_args(argv)
-    from cases.study_case import load_study_case
+    from studies.run import prepare_study  # the run's own checks before meshing
 
     status = EXIT_OK
     for name in args.cases:
         try:
-            print(_describe(load_study_case(name)))
+            print(_describe(prepare_study(name, Path("results"))[0]))
         except Exception as exc:
             print(f"error: {with_path(one_line(exc), name)}", file=sys.stderr)
             status = max(status, exit_code(exc))

@@ -1,0 +1,77 @@
+"""Accepted means solvable (issue 57 item 1): a case at the ends of the validator's ranges
+either solves or is refused with code 2 before anything is meshed. The grid spacing's lower
+end asks for a contact grid no machine holds (the cells grow as 1 / spacing^2): refused up
+front with the spacing that fits (studies.contact_size). The largest helix angle with the
+largest grid spacing, the case that failed in the gap operator, solves at level 0."""
+
+import json
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+from cases.gearset import CaseError
+from cases.study_case import GRID_SPACING_RANGE, load_study_case
+from gears.spec import HELIX_ANGLE_RANGE
+from studies.contact_size import check_contact_size, contact_bytes
+from studies.position import study_scene
+from studies.run import main
+
+ROOT = Path(__file__).resolve().parents[1]
+GB = 1e9
+
+
+def end_point_case(tmp_path: Path, beta: float, spacing: float) -> Path:
+    """1-GA's data at helix angle ``beta`` (the centre distance of the standard sun-pinion
+    pair, so the shifts stay valid), level 0, one position, no root stress, grid_spacing."""
+    text = (ROOT / "cases" / "gearsets" / "case1.toml").read_text()
+    a = math.ceil(100 * 1.59 * 61 / (2 * math.cos(math.radians(beta)))) / 100 + 0.05
+    text = re.sub(r"(?m)^helix_angle = [0-9.]+", f"helix_angle = {beta:.1f}", text)
+    text = re.sub(r"(?m)^centre_distance = [0-9.]+", f"centre_distance = {a:.2f}", text)
+    (tmp_path / "ends.toml").write_text(text)
+    case = (ROOT / "cases" / "1-GA.toml").read_text()
+    case = case.replace('gearset = "case1"', 'gearset = "ends.toml"')
+    case = case.replace('name = "1-GA"', 'name = "ends"')
+    case = re.sub(r"(?m)^level = 1.*", "level = 0", case)
+    case = re.sub(r"(?m)^(flank|fillet)_level = .*\n", "", case)
+    case = re.sub(r"(?m)^positions = .*", "positions = 1", case)
+    case = case.replace(
+        "[numerics]", f'[numerics]\ngrid_spacing = {spacing!r}\nroot_stress = "none"'
+    )
+    (tmp_path / "ends-case.toml").write_text(case)
+    return tmp_path / "ends-case.toml"
+
+
+def test_the_smallest_spacing_is_refused_before_meshing_with_the_spacing_that_fits(tmp_path):
+    lo = GRID_SPACING_RANGE[0]
+    case = end_point_case(tmp_path, 21.0, 2 * lo)  # the open lower end's nearest allowed
+    out = tmp_path / "out"
+    assert main([str(case), "--out", str(out), "--quiet"]) == 2
+    assert not (out / "ends").exists()  # nothing meshed, solved or written
+    study = load_study_case(case)
+    with pytest.raises(
+        CaseError, match=r"numerics.grid_spacing = 0.02 mm .* set numerics.grid_spacing >= "
+    ) as err:
+        check_contact_size(study, 2 * lo, study_scene(study, 0.0), memory=int(24 * GB))
+    fits = float(re.search(r">= ([0-9.]+) mm", str(err.value)).group(1))
+    check_contact_size(study, fits, study_scene(study, 0.0), memory=int(24 * GB))  # it fits
+
+
+def test_the_bound_is_the_dense_matrices_on_every_rank():
+    # 1-GA's zone grid at its case sizes: 4216 cells (the module docstring), 0.43 GB
+    assert contact_bytes(4216) == 3 * 8 * 4216**2
+    study = load_study_case("1-GA")
+    scene = study_scene(study, 0.0)
+    check_contact_size(study, 0.45, scene, ranks=2, memory=int(24 * GB))
+    with pytest.raises(CaseError, match=r"2 ranks\), more than 80% of this machine's 1 GB"):
+        check_contact_size(study, 0.45, scene, ranks=2, memory=int(1 * GB))
+
+
+def test_the_largest_helix_angle_at_the_largest_spacing_solves(tmp_path):
+    case = end_point_case(tmp_path, HELIX_ANGLE_RANGE[1], GRID_SPACING_RANGE[1])
+    out = tmp_path / "out"
+    assert main([str(case), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "ends" / "summary.json").read_text())
+    assert not summary.get("failed_positions")
+    assert math.isfinite(summary["positions"][0]["My_pin"])
