@@ -22,6 +22,9 @@ STUDY_FLAGS := $(if $(filter 1 yes true,$(QUIET)),--quiet)
 # speed (the convergence records, 2026-11-30). IN_CORE=1 keeps them in memory.
 IN_CORE ?=
 CASE_FLAGS := $(STUDY_FLAGS) $(if $(filter 1 yes true,$(IN_CORE)),,--out-of-core)
+# GNU make exits 2 whatever a recipe's code: the run's own code (docs/cli.md) is said on
+# stderr on the way out; scripts that branch on it call .venv/bin/planetary-fe run directly.
+RUN_CODE = || { rc=$$?; echo "make: planetary-fe run ended with code $$rc (docs/cli.md: exit codes; make itself exits 2)" >&2; exit $$rc; }
 
 # First Python >= 3.12 that actually runs: python3.12.. on PATH (a pyenv shim that is not
 # activated fails the check), then pyenv's installed versions.
@@ -99,16 +102,16 @@ analytic: $(STAMP) ## closed-form study: results/analytic/{tables.json,report.md
 
 # One FE study case: `make 1-GB`; `make 1-GB NP=2` runs it on 2 MPI ranks.
 $(CASE1) $(CASE2): $(STAMP)
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $@ --out $(RESULTS) $(CASE_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $@ --out $(RESULTS) $(CASE_FLAGS) $(RUN_CODE)
 
 # Any case file: `make study CASE=path/to/my_case.toml` (or a name in cases/).
 study: $(STAMP) ## one study for any case file: make study CASE=path/to/case.toml [NP=2]
 	@[ -n "$(CASE)" ] || { echo "error: give the case file: make study CASE=path/to/case.toml" >&2; exit 2; }
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE) --out $(RESULTS) $(CASE_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE) --out $(RESULTS) $(CASE_FLAGS) $(RUN_CODE)
 
 # The cases of a group run in one process: their bodies are factorized once and reused.
 case1: $(STAMP) ## the four case-1 FE cases and their report: results/case1/report.md
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --out $(RESULTS) $(CASE_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --out $(RESULTS) $(CASE_FLAGS) $(RUN_CODE)
 	$(PY) -m studies.paper.case1 --results $(RESULTS)
 
 # The system scenes and their branch references run at SYSTEM_LEVEL's own sizes (--level):
@@ -142,7 +145,7 @@ case2-system: $(STAMP) ### case 2 in the system scene (six carrier pins): result
 
 # --single: the single-pinion cases the pattern shift is compared with (same bearing).
 case2: $(STAMP) ## the case-2 FE cases (double pinion) and their report: results/case2/report.md
-	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(CASE_FLAGS)
+	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE2) --out $(RESULTS) $(CASE_FLAGS) $(RUN_CODE)
 	$(PY) -m studies.paper.case2 --results $(RESULTS) --cases $(CASE2) --single $(CASE1)
 
 bench-study: $(STAMP) #### reuse and MPI speed-ups of the study: results/bench/study.json

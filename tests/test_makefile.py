@@ -27,3 +27,19 @@ def test_make_help_lists_every_target_in_its_group():
     product = groups[0]
     for name in ("1-GA", "study", "case1", "case2", "test", "docs"):
         assert re.search(rf"^  {name}\b", product, flags=re.M), name
+
+
+def test_a_case_target_says_the_runs_own_exit_code(tmp_path):
+    """GNU make exits 2 whatever a recipe's code (its manual: 0, 1 for -q, 2 on errors), so
+    the run targets say the run's documented code on stderr (issue 57 item 7): a results
+    folder that is a file is code 3, which `make study` used to hide behind make's 2."""
+    results = tmp_path / "a-file"
+    results.write_text("")
+    out = subprocess.run(
+        ["make", "--no-print-directory", "-s", "study", "CASE=1-GA", f"RESULTS={results}"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert out.returncode == 2  # make's own
+    assert "planetary-fe run ended with code 3" in out.stderr, out.stderr
