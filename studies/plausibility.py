@@ -36,23 +36,76 @@ The inputs are checked too (:func:`input_warnings`, said before the solve; the r
 * The length a bearing's two stiffnesses imply, L = sqrt(12 k_tilt / k_r) (a uniform row of
   springs of length L has k_tilt = k_r L^2 / 12), outside 2-200 mm: the paper's bearings give
   21 mm. One of the two is then most likely in another unit (N m/rad instead of N mm/rad).
+* The torque, through each mesh's nominal contact stress sigma_H0 (ISO 6336-2 method B at
+  the pitch point, every K factor 1, steel flanks: :func:`gears.contact_stress.
+  iso6336_pitch_contact_stress`) outside 100-2600 MPa. 2600 MPa is the static limit of a
+  case-hardened flank (sigma_Hlim 1650 MPa times the static life factor Z_NT 1.6, ISO
+  6336-2/-5), which even the nominal stress without the K factors passes only with a torque
+  in the wrong unit; the paper's sets reach 1900 MPa (2B-GA's SP-RP mesh), the phasing
+  set 540 MPa. Below 100 MPa the mesh is all but unloaded (a hundredth of a design load):
+  often N m given as kN m.
+* A flank modification amount above 100 um (the validator allows 500): industrial
+  micro-geometry is 5-60 um (lead crown C_b, tip relief C_a about 0.01-0.02 m_n, Niemann
+  and Winter, Maschinenelemente II); a larger amount is most likely in another unit (mm x
+  1000 twice) or a different tooth form.
 """
 
 from __future__ import annotations
 
 import math
 
+from gears.contact_stress import iso6336_pitch_contact_stress
 from gears.material import STEEL
+from postprocess.mesh_stress import driver_torques
 
 CONTACT_STRESS_LIMIT_MPA = 5000.0
 ROOT_STRESS_LIMIT_MPA = 3000.0
 RADIAL_STIFFNESS_MIN = 1e5  # N/mm
 BEARING_LENGTH_MM = (2.0, 200.0)  # sqrt(12 k_tilt / k_r)
+NOMINAL_CONTACT_STRESS_MPA = (100.0, 2600.0)  # sigma_H0 of a mesh, K factors 1
+MODIFICATION_USUAL_UM = 100.0
 
 
 def input_warnings(study) -> list[str]:
     """Warnings for inputs outside the range seen in practice (module docstring): the
-    bearing's radial stiffness and the length its two stiffnesses imply."""
+    bearing's radial stiffness and the length its two stiffnesses imply, the torque and
+    the flank modifications."""
+    return _bearing_warnings(study) + _torque_warnings(study) + _modification_warnings(study)
+
+
+def _torque_warnings(study) -> list[str]:
+    gs = study.gearset
+    torques = driver_torques(gs)
+    lo, hi = NOMINAL_CONTACT_STRESS_MPA
+    out = []
+    for m in gs.meshes:
+        pair = gs.pair(m.gear1, m.gear2)
+        sigma = iso6336_pitch_contact_stress(pair, torques[(m.gear1, m.gear2)])["sigma_H0"]
+        if not lo <= sigma <= hi:
+            out.append(
+                f"{study.name}: input_torque = {gs.input_torque:g} N m in the gear set gives the "
+                f"{m.gear1}-{m.gear2} mesh a nominal contact stress sigma_H0 = {sigma:.0f} MPa "
+                f"(ISO 6336-2, K factors 1), outside the usual {lo:g}-{hi:g} MPa of steel "
+                "gears: is the torque in N m on the sun, all branches together?"
+            )
+    return out
+
+
+def _modification_warnings(study) -> list[str]:
+    out = []
+    for gear, mods in sorted((getattr(study.gearset, "modifications", None) or {}).items()):
+        for f in ("lead_crown_um", "lead_slope_um", "tip_relief_um", "end_relief_um"):
+            v = getattr(mods, f)
+            if abs(v) > MODIFICATION_USUAL_UM:
+                out.append(
+                    f"{study.name}: [gears.{gear}.modifications] {f} = {v:g} um is above the "
+                    f"{MODIFICATION_USUAL_UM:g} um of usual flank micro-geometry (5-60 um): "
+                    "is it in um?"
+                )
+    return out
+
+
+def _bearing_warnings(study) -> list[str]:
     out: list[str] = []
     b = study.bearing
     where = f"{study.name}: [bearing]"

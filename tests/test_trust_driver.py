@@ -640,6 +640,29 @@ def test_a_bearing_stiffness_in_another_unit_warns_before_the_solve(
         assert input_warnings(load_study_case(name)) == [], name
 
 
+def test_a_torque_or_a_modification_in_the_wrong_unit_is_a_warning():
+    """The torque is checked through each mesh's ISO 6336-2 nominal contact stress (usual
+    100-2600 MPa, studies.plausibility) and a modification amount against 100 um: 1-GA's
+    1378.7 N m given as kN m (x 1000: sigma_H0 x 31.6, 55000 MPa on the sun mesh) and as
+    N m / 1000 (55 MPa), and a 20 um crown typed as 200 (the validator allows 500)."""
+    from gears.microgeometry import FlankModifications
+
+    study = load_study_case("1-GA")
+    gs = study.gearset
+    for factor, said in ((1000.0, "sigma_H0 = 54"), (1e-3, "sigma_H0 = 55 MPa")):
+        heavy = dataclasses.replace(gs, input_torque=gs.input_torque * factor)
+        warnings = input_warnings(dataclasses.replace(study, gearset=heavy))
+        assert len(warnings) == 2, warnings  # both meshes
+        assert "input_torque" in warnings[0] and said in warnings[0], warnings[0]
+    crowned = dataclasses.replace(
+        gs, modifications={"pinion": FlankModifications(lead_crown_um=200.0)}
+    )
+    (w,) = input_warnings(dataclasses.replace(study, gearset=crowned))
+    assert "[gears.pinion.modifications] lead_crown_um = 200 um" in w
+    sane = dataclasses.replace(gs, modifications={"pinion": FlankModifications(lead_crown_um=50.0)})
+    assert input_warnings(dataclasses.replace(study, gearset=sane)) == []
+
+
 def test_an_edited_convergence_study_is_a_warning(stub, tmp_path, capsys):
     """A convergence study beside the results whose checksum does not match its content
     (edited by hand or damaged) is skipped for the ± and said in the summary's warnings and
