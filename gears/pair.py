@@ -81,9 +81,14 @@ class GearPair:
         try:
             g2_meshed = replace(g2, profile_shift=x2)
         except GeometryError as exc:
+            a0 = self.standard_centre_distance
+            way = "larger" if x2 < g2.profile_shift else "smaller"
             raise GeometryError(
                 f"centre_distance = {a}: needs {g2.name}.profile_shift = {x2:.4f} for zero "
-                f"backlash, which gives an invalid gear: {exc}"
+                f"backlash, which gives an invalid gear: {exc}; the shifts follow from the "
+                f"centre distances: a {way} centre_distance, towards the standard "
+                f"{a0:.3f} mm (a0 = m_n (z1 {'-' if self.internal else '+'} z2) / "
+                f"(2 cos beta), no shift sum), gives {g2.name} a shift nearer 0"
             ) from exc
         GearPair(g1, g2_meshed, a)  # the mesh as it will be built must be valid
 
@@ -203,7 +208,9 @@ class GearPair:
             if c < 0.0:
                 raise GeometryError(
                     f"{where}: {tip.name} tip circle cuts {root.name} root circle by "
-                    f"{-c:.4f} mm (no tip clearance)"
+                    f"{-c:.4f} mm (no tip clearance): lower {tip.name}.addendum_coef (by "
+                    f"{-c / tip.normal_module:.3f} or more, its tip by {-c:.4f} mm) or raise "
+                    f"{root.name}.dedendum_coef by as much"
                 )
         start1, end2, _ = self.path_of_contact_lengths
         l_f1 = float(roll_length(g1.form_radius, g1.base_radius))
@@ -216,7 +223,11 @@ class GearPair:
             if not ok:
                 raise GeometryError(
                     f"{where}: {tip.name} tip meets {flank.name} beyond its involute (form "
-                    f"radius {flank.form_radius:.4f} mm): involute/fillet interference"
+                    f"radius {flank.form_radius:.4f} mm): involute/fillet interference; "
+                    f"lower {tip.name}.addendum_coef (a shorter tip), or lower "
+                    f"{flank.name}.hob_tip_radius_coef or dedendum_coef (the tool then cuts "
+                    f"less of {flank.name}'s involute away), or change the centre distance "
+                    f"(the shifts follow from it)"
                 )
         if self.internal:
             margin = tip_interference_margin(

@@ -1,0 +1,36 @@
+"""A gear set that cannot be built says what to change (issue 57: "involute/fillet
+interference" named the mesh but no way forward). Case 1's sun and pinion at other helix
+angles and centre distances, the trials a new user makes."""
+
+import pytest
+
+from gears.pair import GearPair
+from gears.spec import GearSpec, GeometryError
+
+
+def pair(beta: float, a: float) -> GearPair:
+    common = dict(normal_module=1.59, normal_pressure_angle=20.0, helix_angle=beta)
+    sun = GearSpec("sun", 35, hand="right", face_width=32.35, **common)
+    pinion = GearSpec("pinion", 26, hand="left", face_width=29.0, **common)
+    return GearPair(sun, pinion, a)
+
+
+def test_a_shift_the_centre_distance_cannot_give_names_the_way_to_the_standard_one():
+    # 30 deg: a0 = 1.59 * 61 / (2 cos 30) = 55.997 mm; 51.945 asks for x = -1.84 (undercut)
+    with pytest.raises(
+        GeometryError,
+        match=r"a larger centre_distance, towards the standard "
+        r"55.997 mm",
+    ):
+        pair(30.0, 51.945)
+    with pytest.raises(GeometryError, match=r"pointed tooth.*a smaller centre_distance"):
+        pair(30.0, 59.2)
+
+
+def test_no_tip_clearance_says_by_how_much_to_shorten_the_tip():
+    # 35 deg, a = 56 mm: the sun's tip cuts the pinion's root circle by 0.1262 mm
+    with pytest.raises(GeometryError) as err:
+        pair(35.0, 56.0)
+    msg = str(err.value)
+    assert "cuts pinion root circle by 0.1262 mm" in msg
+    assert f"lower sun.addendum_coef (by {0.1262 / 1.59:.3f} or more" in msg
