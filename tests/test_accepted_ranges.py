@@ -10,6 +10,7 @@ import re
 from pathlib import Path
 
 import pytest
+from test_high_helix import helix_case
 
 from cases.gearset import CaseError
 from cases.study_case import GRID_SPACING_RANGE, load_study_case
@@ -18,29 +19,23 @@ from studies.contact_size import check_contact_size, contact_bytes
 from studies.position import study_scene
 from studies.run import main
 
-ROOT = Path(__file__).resolve().parents[1]
 GB = 1e9
 
 
 def end_point_case(tmp_path: Path, beta: float, spacing: float) -> Path:
-    """1-GA's data at helix angle ``beta`` (the centre distance of the standard sun-pinion
-    pair, so the shifts stay valid), level 0, one position, no root stress, grid_spacing."""
-    text = (ROOT / "cases" / "gearsets" / "case1.toml").read_text()
-    a = math.ceil(100 * 1.59 * 61 / (2 * math.cos(math.radians(beta)))) / 100 + 0.05
-    text = re.sub(r"(?m)^helix_angle = [0-9.]+", f"helix_angle = {beta:.1f}", text)
-    text = re.sub(r"(?m)^centre_distance = [0-9.]+", f"centre_distance = {a:.2f}", text)
-    (tmp_path / "ends.toml").write_text(text)
-    case = (ROOT / "cases" / "1-GA.toml").read_text()
-    case = case.replace('gearset = "case1"', 'gearset = "ends.toml"')
-    case = case.replace('name = "1-GA"', 'name = "ends"')
+    """1-GB's data at helix angle ``beta`` (test_high_helix.helix_case: the centre distance
+    of the standard sun-pinion pair, so the shifts stay valid), level 0, one position, no
+    root stress, ``grid_spacing``."""
+    path = helix_case(tmp_path, beta)
+    case = path.read_text().replace(f'name = "helix{beta:g}"', 'name = "ends"')
     case = re.sub(r"(?m)^level = 1.*", "level = 0", case)
     case = re.sub(r"(?m)^(flank|fillet)_level = .*\n", "", case)
     case = re.sub(r"(?m)^positions = .*", "positions = 1", case)
     case = case.replace(
         "[numerics]", f'[numerics]\ngrid_spacing = {spacing!r}\nroot_stress = "none"'
     )
-    (tmp_path / "ends-case.toml").write_text(case)
-    return tmp_path / "ends-case.toml"
+    path.write_text(case)
+    return path
 
 
 def test_the_smallest_spacing_is_refused_before_meshing_with_the_spacing_that_fits(tmp_path):
