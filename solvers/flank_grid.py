@@ -238,7 +238,9 @@ def flank_grid(
     if micro is not None:
         mic = mic + np.asarray(micro(zone, x), float).reshape(m)
     tangents = np.broadcast_to(np.stack([tline, t2]), (m, 2, 3)).copy()
-    halves = _patch_halves(x, x, tline, t2, drv, dvn, 0.5 * seg, 0.5 * w_across)
+    # along the line each patch stays within its segment of the line, which ends inside both
+    # tip circles: only the width across is narrowed
+    half_across = np.minimum(_room(x, t2, drv, 0.5 * w_across), _room(x, t2, dvn, 0.5 * w_across))
     grid = ContactGrid(
         zone.name,
         x.copy(),
@@ -247,7 +249,7 @@ def flank_grid(
         dev_a + dev_b + mic,
         seg * w_across,
         tangents=tangents,
-        half_sizes=halves,
+        half_sizes=np.c_[0.5 * seg, half_across],
         stations=np.arange(m),
         station_length=seg.copy(),
         n_spread=n_spread,
