@@ -148,13 +148,34 @@ def _room(x: np.ndarray, u: np.ndarray, pg, half, n: int = 41) -> np.ndarray:
     return np.clip(dist - step, np.minimum(half / 20, 0.5 * EDGE_MARGIN), half)
 
 
+def _on_flank(x: np.ndarray, pg) -> np.ndarray:
+    """Whether points x lie between the form and tip circles of ``pg`` (EDGE_MARGIN inside)."""
+    g = pg.gear
+    r_lo, r_hi = sorted((g.form_radius, g.tip_radius))
+    r = np.hypot(x[:, 0] - pg.placement.centre[0], x[:, 1] - pg.placement.centre[1])
+    return (r >= r_lo + EDGE_MARGIN) & (r <= r_hi - EDGE_MARGIN)
+
+
 def _patch_halves(x_a, x_b, along, across, drv, dvn, half_along, half_across) -> np.ndarray:
     """(m, 2) half sizes of the spreading patches at x_a (driver) and x_b (driven), along
-    the contact line and across it, each narrowed to stay on both flanks (:func:`_room`)."""
-    return np.c_[
+    the contact line and across it, each narrowed to stay on both flanks (:func:`_room`);
+    then both are shrunk together (by 0.7, at most 6 times) where a corner of the patch
+    still leaves a flank: the line runs obliquely over the flank, so a patch whose two axes
+    each stay on it can still reach past a tip with a corner."""
+    h = np.c_[
         np.minimum(_room(x_a, along, drv, half_along), _room(x_b, along, dvn, half_along)),
         np.minimum(_room(x_a, across, drv, half_across), _room(x_b, across, dvn, half_across)),
     ]
+    u, v = np.broadcast_to(along, np.shape(x_a)), np.broadcast_to(across, np.shape(x_a))
+    floor = np.minimum(h / 20, 0.5 * EDGE_MARGIN)
+    for _ in range(6):
+        off = [sa * h[:, :1] * u + sc * h[:, 1:] * v for sa in (-1, 1) for sc in (-1, 1)]
+        out = ~np.all([_on_flank(x_a + d, drv) & _on_flank(x_b + d, dvn) for d in off], axis=0)
+        out &= np.all(h > floor, axis=1)
+        if not out.any():
+            break
+        h[out] = np.maximum(0.7 * h[out], floor[out])
+    return h
 
 
 def flank_grid(
@@ -667,11 +688,9 @@ def zone_grid(
     depth_b = _matching_depth(dvn, zone.coast_sides[1], xbc, nc, w_across)
     halves_c = _patch_halves(xc, xbc, tlc, ttc, drv, dvn, 0.5 * seg, 0.5 * w_across)
     half_c = halves_c[:, 1]
-    # the fine cells end inside both tip circles across the line (their width dv), not along it
+    # a fine cell's patch: its section's length along the line, its width dv across it
     x_b = x + dev_b[:, None] * nk
-    half_fine = np.c_[
-        _patch_halves(x, x_b, tl, tt, drv, dvn, 0.5 * seg, 0.5 * w_across)[:, 0], 0.5 * F["dv"]
-    ]
+    half_fine = _patch_halves(x, x_b, tl, tt, drv, dvn, 0.5 * seg, 0.5 * F["dv"])
     coarse_grid = ContactGrid(
         f"{zone.name}#coarse",
         xc,

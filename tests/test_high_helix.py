@@ -90,12 +90,9 @@ def spread_points_beyond_a_tip(study, spacing: float | None = None) -> float:
 @pytest.mark.parametrize("beta, spacing", [(0.0, None), (45.0, None), (45.0, 5.0), (0.0, 5.0)])
 def test_every_spreading_point_lies_on_its_tooth(beta, spacing, tmp_path):
     """The patch a grid point is spread over stays on both flanks along the contact line as
-    well as across it (solvers.flank_grid._patch_halves): at 45 deg, along the line it
-    reached 0.1 mm past the pinion's tip, beyond the gap operator's bounding-box padding
-    (1e-3 of the body mesh's diagonal, 0.09 mm for this pinion), and every position failed.
-    Bound: 0.045 mm, half that padding. The patch is narrowed along each of its directions
-    alone, so a Gauss point off both axes of a 5 mm grid's large patch still lies up to
-    0.04 mm past a tip (and a coast flank's driven point sits off its driver point by the
-    backlash, 0.02 mm past a tip across the line)."""
+    well as across it, corners included (solvers.flank_grid._patch_halves): at 45 deg,
+    along the line it reached 0.1 mm past the pinion's tip, beyond the gap operator's
+    bounding-box padding (1e-3 of the body mesh's diagonal, 0.09 mm for this pinion), and
+    every position failed. Every spreading point now lies inside its tip circle and face."""
     study = load_study_case(helix_case(tmp_path, beta))
-    assert spread_points_beyond_a_tip(study, spacing) < 0.045
+    assert spread_points_beyond_a_tip(study, spacing) == 0.0
