@@ -11,7 +11,8 @@ spacing that fits, instead of meshing for minutes and then running out of memory
 
 The estimate, per rank: C plus the active-set system and its LU copy at their largest
 (every cell active), CONTACT_COPIES x 8 n^2 bytes, an upper bound; the budget is
-MEMORY_SHARE of the machine's physical memory shared by the ranks of the job. It is a guard
+MEMORY_SHARE of the machine's physical memory shared by the ranks of the job (counted as if
+on one machine). It is a guard
 against the certainly impossible, not a tight bound: the bodies' own memory comes on top,
 and a case it passes may still not fit (the case sizes' system scenes: 19144 cells, 8.8 GB
 by this bound per rank, peak 19-21 GB on two ranks).
@@ -54,12 +55,16 @@ def machine_memory() -> int:
     return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
-def check_contact_size(study, spacing: float, scene, ranks: int = 1, memory: int | None = None):
+def check_contact_size(study, spacing: float, scene, comm=None, memory: int | None = None):
     """:class:`cases.gearset.CaseError` where the contact grid of ``scene`` at ``spacing``
-    (mm) needs more than MEMORY_SHARE of ``memory`` (default: this machine's) on ``ranks``
-    ranks (module docstring); the message names the spacing that fits. Pure geometry: the
+    (mm) needs more than MEMORY_SHARE of ``memory`` on the ranks of ``comm`` (module
+    docstring); the message names the spacing that fits. ``memory`` defaults to this
+    machine's. Not collective: a rank that refuses while others pass (machines of different
+    sizes) is shared by the command's input check (studies.run._inputs_valid, which every
+    rank joins) before anything is solved. Pure geometry: the
     grids of one position, about a second; below PROBE_SPACING the cells are counted at it
     and scaled (1-GA: 15205 cells at 0.2 mm give 60820 at 0.1, 57977 counted)."""
+    ranks = 1 if comm is None else comm.size
     memory = machine_memory() if memory is None else memory
     key = (repr(study), float(spacing), ranks, memory)
     if key in _PASSED:  # the run checks each case twice (all cases first, then each run)

@@ -202,7 +202,7 @@ def run_study(
     across positions and cases (factorized once; default: kept for this study's
     positions)."""
     progress = Progress(comm) if progress is None else progress
-    study, settings, out = prepare_study(name_or_path, out_root, options, comm.size)
+    study, settings, out = prepare_study(name_or_path, out_root, options, comm)
     store = BodyStore() if store is None else store
     for w in input_warnings(study):
         progress.warn(w)
@@ -216,13 +216,13 @@ def run_study(
 
 
 def prepare_study(
-    name_or_path, out_root: Path, options: CaseOptions | None = None, ranks: int = 1
+    name_or_path, out_root: Path, options: CaseOptions | None = None, comm=None
 ) -> tuple[StudyCase, RunSettings, Path]:
     """The study case with ``options`` applied, its run settings and its output folder,
     checked as input before anything is solved or written: the case file and its gear set,
     the options, the scene's geometry (milliseconds), the root-stress setting against the
     scene, the flank modifications against the backlash and the contact grid's memory on
-    ``ranks`` ranks (about a second). Raises the input errors of
+    the ranks of ``comm`` (about a second; not collective). Raises the input errors of
     :data:`~studies.cli.INPUT_ERRORS`."""
     options = CaseOptions() if options is None else options
     study, settings = options.applied(load_study_case(name_or_path))
@@ -233,7 +233,7 @@ def prepare_study(
         raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
     check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
     check_coast_backlash(study, scene)  # a set whose modifications eat its backlash
-    check_contact_size(study, settings.spacing, scene, ranks)  # a grid no machine here holds
+    check_contact_size(study, settings.spacing, scene, comm)  # a grid no machine here holds
     return study, settings, out
 
 
@@ -576,7 +576,7 @@ def _inputs_valid(args: argparse.Namespace, comm, progress: Progress, ranks: Ran
     for name in args.cases:
         failure = None
         try:
-            prepare_study(name, args.out, _options(args), comm.size)
+            prepare_study(name, args.out, _options(args), comm)
         except INPUT_ERRORS as exc:
             failure = (EXIT_INVALID_INPUT, with_path(one_line(exc), name), traceback.format_exc())
         except Exception:  # not input: the run meets it again and reports it

@@ -8,6 +8,7 @@ import json
 import math
 import re
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 from test_high_helix import helix_case
@@ -15,8 +16,9 @@ from test_high_helix import helix_case
 from cases.gearset import CaseError
 from cases.study_case import GRID_SPACING_RANGE, load_study_case
 from gears.spec import HELIX_ANGLE_RANGE
-from studies.contact_size import check_contact_size, contact_bytes
-from studies.position import study_scene
+from solvers.gear_train import contact_grids
+from studies.contact_size import check_contact_size
+from studies.position import study_scene, train_inputs
 from studies.run import main
 
 GB = 1e9
@@ -53,14 +55,23 @@ def test_the_smallest_spacing_is_refused_before_meshing_with_the_spacing_that_fi
     check_contact_size(study, fits, study_scene(study, 0.0), memory=int(24 * GB))  # it fits
 
 
-def test_the_bound_is_the_dense_matrices_on_every_rank():
-    # 1-GA's zone grid at its case sizes: 4216 cells (the module docstring), 0.43 GB
-    assert contact_bytes(4216) == 3 * 8 * 4216**2
+def test_the_bound_counts_every_rank_and_scales_the_cells_below_the_probe():
     study = load_study_case("1-GA")
     scene = study_scene(study, 0.0)
-    check_contact_size(study, 0.45, scene, ranks=2, memory=int(24 * GB))
+    two = SimpleNamespace(size=2)  # what the check takes of a communicator
+    check_contact_size(study, 0.45, scene, two, memory=int(24 * GB))  # 1-GA: 4216 cells
     with pytest.raises(CaseError, match=r"2 ranks\), more than 80% of this machine's 1 GB"):
-        check_contact_size(study, 0.45, scene, ranks=2, memory=int(1 * GB))
+        check_contact_size(study, 0.45, scene, two, memory=int(1 * GB))
+    # below the probe the cells are counted at it and scaled by 1 / spacing^2: within 10 %
+    # of the count (the cells across the line are capped at half the spacing, the Hertz
+    # cells at the contact line are not, so the true count grows a little slower)
+    fine = 0.15
+    _, pairs = contact_grids(scene, train_inputs(study), fine)
+    counted = sum(p.grid.n for p in pairs)
+    with pytest.raises(CaseError, match=r"about (\d+) cells") as err:
+        check_contact_size(study, fine, scene, memory=int(0.01 * GB))
+    scaled = int(re.search(r"about (\d+) cells", str(err.value)).group(1))
+    assert counted < scaled < 1.1 * counted, (scaled, counted)
 
 
 def test_the_largest_helix_angle_at_the_largest_spacing_solves(tmp_path):
