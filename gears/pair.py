@@ -209,8 +209,8 @@ class GearPair:
                 raise GeometryError(
                     f"{where}: {tip.name} tip circle cuts {root.name} root circle by "
                     f"{-c:.4f} mm (no tip clearance): lower {tip.name}.addendum_coef (by "
-                    f"{-c / tip.normal_module:.3f} or more, its tip by {-c:.4f} mm) or raise "
-                    f"{root.name}.dedendum_coef by as much"
+                    f"{math.ceil(-c / tip.normal_module * 1e3) / 1e3:.3f} or more, its tip by "
+                    f"{-c:.4f} mm or more) or raise {root.name}.dedendum_coef by as much"
                 )
         start1, end2, _ = self.path_of_contact_lengths
         l_f1 = float(roll_length(g1.form_radius, g1.base_radius))
@@ -224,10 +224,10 @@ class GearPair:
                 raise GeometryError(
                     f"{where}: {tip.name} tip meets {flank.name} beyond its involute (form "
                     f"radius {flank.form_radius:.4f} mm): involute/fillet interference; "
-                    f"lower {tip.name}.addendum_coef (a shorter tip), or lower "
-                    f"{flank.name}.hob_tip_radius_coef or dedendum_coef (the tool then cuts "
-                    f"less of {flank.name}'s involute away), or change the centre distance "
-                    f"(the shifts follow from it)"
+                    f"lower {tip.name}.addendum_coef (a shorter tip), or give {flank.name} "
+                    "a lower hob_tip_radius_coef or a higher dedendum_coef (the tool's "
+                    f"straight flank then reaches deeper: {flank.name}'s involute starts "
+                    "lower), or change the centre distance (the shifts follow from it)"
                 )
         if self.internal:
             margin = tip_interference_margin(
