@@ -46,8 +46,8 @@ The inputs are checked too (:func:`input_warnings`, said before the solve; the r
   often N m given as kN m.
 * A flank modification amount above 100 um (the validator allows 500): industrial
   micro-geometry is 5-60 um (lead crown C_b, tip relief C_a about 0.01-0.02 m_n, Niemann
-  and Winter, Maschinenelemente II); a larger amount is most likely in another unit (mm x
-  1000 twice) or a different tooth form.
+  and Winter, Maschinenelemente II); a larger amount is most likely a slip of the
+  unit or a different tooth form, not a modification.
 """
 
 from __future__ import annotations
@@ -93,7 +93,7 @@ def _torque_warnings(study) -> list[str]:
 
 def _modification_warnings(study) -> list[str]:
     out = []
-    for gear, mods in sorted((getattr(study.gearset, "modifications", None) or {}).items()):
+    for gear, mods in sorted(study.gearset.modifications.items()):
         for f in ("lead_crown_um", "lead_slope_um", "tip_relief_um", "end_relief_um"):
             v = getattr(mods, f)
             if abs(v) > MODIFICATION_USUAL_UM:
