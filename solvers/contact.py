@@ -48,7 +48,10 @@ refactorization of any K_b is needed, whatever the number of active-set changes.
 
 Only the columns C[:, A] of points that are or were active are ever used (in (4) and in the
 gaps g = g0 + g_f + C[:, A] F_A + R r), so they are formed on demand, in batches, by MUMPS
-multi-RHS solves with each body's one factorization (``ensure_columns``).
+multi-RHS solves with each body's one factorization (``ensure_columns``). A body keeps its
+share of every column it formed, keyed by the rows' geometry in its own frame
+(:mod:`solvers.body_columns`): a later problem placing the same rows on the body (another
+case at the same mesh position, a sweep) reads them instead of solving.
 
 Zone grids: near field / far field split (a pair with a ``link``,
 :func:`solvers.flank_grid.zone_grid`). A fine grid over the whole potential contact zone
@@ -115,6 +118,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from solvers.body_columns import body_columns, node_keys
 from solvers.contact_grid import ContactGrid, ZoneLink
 from solvers.elastic_body import ElasticBody
 from solvers.errors import (
@@ -515,16 +519,101 @@ class ContactProblem:
             )
             for n in self.G
         }
+        self.row_keys = {n: self._row_keys(n, depth) for n in self.G}
         self.timings.update(
             setup_bodies=t1 - t0, gap_operator=t2 - t1, free_solve=t3 - t2, compliance=0.0
         )
         self.timings["compliance_columns"] = 0
+        self.timings["compliance_solves"] = 0  # a body's FE columns solved
+        self.timings["compliance_columns_kept"] = 0  # and read from its kept columns
         self.timings["correction_clipped"] = 0.0
         if self.eager:
             self.ensure_columns(np.arange(self.n))
         self.timings["factorize"] = sum(b.timings["factorize"] for b in self.bodies.values())
         self._prepared = True
         comm.Barrier()
+
+    def _row_keys(self, name: str, depth) -> list[bytes]:
+        """The body-frame keys (:func:`solvers.body_columns.node_keys`) of body ``name``'s FE
+        rows, in the order of ``body_rows[name]``: each row's spreading points, weights
+        (signed by side) and normal, and its depth row's point where the problem has one."""
+        b = self.bodies[name]
+        keys = {}
+        depth_blocks = self._blocks(name, fe=True, grids=depth) if self.zoned else None
+        for i, (offset, grid, side) in enumerate(self._blocks(name, fe=True)):
+            sign = 1.0 if side == "b" else -1.0
+            pts, _, wq = grid.spread_points(side)
+            n, gd = grid.n, grid.gdim
+            spread = b.to_body(pts).reshape(-1, n, gd).transpose(1, 0, 2)
+            weights = sign * wq.reshape(-1, n).T
+            normal = np.asarray(grid.normals, float) @ b.rotation
+            dep = None
+            if depth_blocks is not None:
+                dep = b.to_body(np.asarray(getattr(depth_blocks[i][1], "x_" + side), float))
+            for k, key in enumerate(node_keys(spread, weights, normal, dep)):
+                keys[offset + k] = key
+        return [keys[int(r)] for r in self.body_rows[name]]
+
+    def _body_entries(self, name: str, G: PETSc.Mat, cols: np.ndarray):
+        """Body ``name``'s share of the FE columns ``cols``: (G K^{-1} G^T [:, cols],
+        G_depth K^{-1} G^T [:, cols] or None), read from the body's kept columns
+        (:mod:`solvers.body_columns`), the rest solved (:meth:`_compliance`, with the body's
+        own factors) and kept.
+
+        A kept column that lacks entries at a few rows new to it (a row another problem
+        did not have: a section kept here and not there) is completed from the new rows'
+        own columns, S[n, j] = S[j, n] (K symmetric), and for the depth entries from the
+        depth rows' columns, D[n, j] = d_n^T K^{-1} g_j = (G K^{-1} G_depth^T)[j, n]; where
+        more rows than columns are missing, the columns are solved instead."""
+        body = self.bodies[name]
+        base = getattr(body, "_body", body)  # a modulus view: its solves are the body's / s
+        scale = float(getattr(body, "scale", 1.0))
+        store = body_columns(body)
+        rows = self.body_rows[name]
+        nodes = store.nodes(self.row_keys[name])
+        pos = np.searchsorted(rows, cols)
+        cn = nodes[pos]
+        G_obs = self.G_depth.get(name)
+        held, missing = store.coverage(nodes, cn)
+        partial = held & missing.any(axis=0)
+        new = np.flatnonzero(missing[:, partial].any(axis=1))  # rows to complete them at
+        solves = 0
+        if partial.any() and len(new) <= 0.5 * partial.sum():
+            s_n, d_n = self._compliance(base, G, rows[new], G_obs)
+            a_n = None if G_obs is None else self._compliance(base, G_obs, rows[new], G)[1]
+            solves += len(new) * (1 if G_obs is None else 2)
+            for i in np.flatnonzero(partial):
+                lack = missing[new, i]
+                at = new[lack]
+                store.extend(
+                    cn[i],
+                    nodes[at],
+                    s_n[rows[pos[i]], lack],
+                    None if a_n is None else a_n[rows[pos[i]], lack],
+                )
+            store.write(nodes, nodes[new], s_n[rows], None if d_n is None else d_n[rows])
+        known = store.known_columns(nodes, cn)
+        S = np.empty((len(rows), len(cols)))
+        D = np.empty((len(rows), len(cols)))
+        if known.any():
+            S[:, known], D[:, known] = store.read(nodes, cn[known])
+        if not known.all():
+            miss = ~known
+            s_new, d_new = self._compliance(base, G, cols[miss], G_obs)
+            S[:, miss] = s_new[rows]
+            D[:, miss] = 0.0 if d_new is None else d_new[rows]
+            store.write(nodes, cn[miss], S[:, miss], None if d_new is None else D[:, miss])
+            solves += int(miss.sum())
+        store.trim(keep=len(cols))
+        self.timings["compliance_solves"] += solves
+        self.timings["compliance_columns_kept"] += int(known.sum())
+        surf = np.zeros((self.n_fe, len(cols)))
+        surf[rows] = S if scale == 1.0 else S / scale
+        dep = None
+        if G_obs is not None:
+            dep = np.zeros((self.n_fe, len(cols)))
+            dep[rows] = D if scale == 1.0 else D / scale
+        return surf, dep
 
     def _gather(self, G: PETSc.Mat, x: PETSc.Vec) -> np.ndarray:
         """y = G x gathered on every rank."""
@@ -553,7 +642,7 @@ class ContactProblem:
         for name, G in self.G_fe.items():
             mine = np.intersect1d(fe, self.body_rows[name])
             if len(mine):
-                surf, dep = self._compliance(self.bodies[name], G, mine, self.G_depth.get(name))
+                surf, dep = self._body_entries(name, G, mine)
                 self.C_fe[:, mine] += surf
                 if dep is not None:
                     self.C_depth[:, mine] += dep
