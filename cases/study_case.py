@@ -132,7 +132,8 @@ class Numerics:
     # "zone": grid points are laid where the unloaded separation (modifications included) is
     # within this (um) of its section's smallest, ZONE_GAP_RANGE: twice the largest approach
     # under load at least (Hertz + bending + mismatch, 10-20 um for these gears; more at an
-    # overturned pinion's tip corners), which solvers.zone_reach checks on every solve.
+    # overturned pinion's tip corners), which solvers.zone_reach checks on every solve; a
+    # position whose load reaches past half of it is solved again on the band the check names.
     zone_gap_limit_um: float = 40.0
     # Solver of each body's stiffness, one of LINEAR_SOLVERS: "mumps" (exact sparse LU),
     # "mumps-blr" (block low-rank LU: less memory, faster factorization) or "cg-gamg"

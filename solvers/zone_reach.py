@@ -16,7 +16,8 @@ What varies across a section is the part of a rigid tilt along the normal's axia
 (it grows with the radius) and the bending of the teeth, and with tooth modifications the
 loaded band sits where g0 grows fastest. Beyond s_max = REACH_FRACTION x L these may close
 cells the grid does not hold, and the answer would depend on a hidden setting: the solve is
-refused with the limit that would hold it. A larger limit costs grid cells only.
+refused with the limit that would hold it (the study driver then solves the position again
+on that band: :func:`studies.position.solve_position`). A larger limit costs grid cells only.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 """The console command ``planetary-fe`` (``[project.scripts]``)::
 
     planetary-fe run CASE [CASE ...] [options]   solve cases (python -m studies.run)
+    planetary-fe sweep CASE --set FIELD=V1,V2    one field over several values (studies.sweep)
     planetary-fe check CASE [CASE ...]           validate case files, solve nothing
     planetary-fe report [--results DIR]          the one-page report of results/
     planetary-fe COMMAND --help
@@ -23,6 +24,7 @@ from studies.cli import EXIT_INVALID_INPUT, EXIT_OK, exit_code, guarded, one_lin
 PROG = "planetary-fe"
 COMMANDS = {
     "run": "solve one or more cases: mesh positions -> summary.json, contact patterns, pictures",
+    "sweep": "one field of a case or its gear set over several values: a table and a plot",
     "check": "validate case files (and their gear sets) without solving",
     "report": "write the one-page report of everything under the results folder",
 }
@@ -49,6 +51,12 @@ def run(argv: list[str]) -> int:
     from studies.run import main  # imports DOLFINx
 
     return main(argv, prog=f"{PROG} run")
+
+
+def sweep(argv: list[str]) -> int:
+    from studies.sweep import main  # imports DOLFINx
+
+    return main(argv, prog=f"{PROG} sweep")
 
 
 def report(argv: list[str]) -> int:
@@ -106,7 +114,7 @@ def main(argv: list[str] | None = None) -> int:
         what = f"unknown command {argv[0]!r}" if argv else "no command given"
         sys.stderr.write(_usage() + f"error: {what} (one of: {', '.join(COMMANDS)})\n")
         return EXIT_INVALID_INPUT
-    command = {"run": run, "check": check, "report": report}[argv[0]]
+    command = {"run": run, "sweep": sweep, "check": check, "report": report}[argv[0]]
     return command(argv[1:])
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -29,13 +29,14 @@ from postprocess.paper_moments import paper_moments
 from postprocess.train_results import train_results
 from solvers.body_store import BodyStore
 from solvers.elastic_body import LinearSolver
+from solvers.errors import ZoneReachError
 from solvers.flank_grid import flank_contact_pairs, is_coast, mesh_name
 from solvers.gear_train import bearing_stiffness, build_gear_train
 from solvers.results import write_vtx
 from solvers.root_stress import root_stress
 from solvers.root_submodel import sector_teeth, submodel_root_stress
 from solvers.train_inputs import TrainInputs
-from solvers.zone_reach import check_zone_reach
+from solvers.zone_reach import check_zone_reach, suggested_limit_um
 from studies.memory import peak_rss_mb
 from studies.settings import RunSettings
 
@@ -221,20 +222,26 @@ def solve_position(
     _stage(progress, "meshes")
     meshes = load_body_meshes(scene, sizes, comm, store.mesh_memo)
     t_meshes = time.perf_counter()
-    _stage(progress, "model")
-    model = build_gear_train(
-        scene,
-        meshes,
-        train_inputs(study),
-        degree=degree,
-        spacing=spacing,
-        penalty_factor=penalty,
-        store=store,
-    )
-    _stage(progress, "solve")
-    result = model.problem.solve()
-    # refuses a solve whose load reaches the edge of a zone grid's band
-    reach = check_zone_reach([*model.grids.values(), *model.coast_grids.values()], result)
+    inputs = train_inputs(study)
+    widened = None
+    while True:
+        _stage(progress, "model")
+        model = build_gear_train(
+            scene,
+            meshes,
+            inputs,
+            degree=degree,
+            spacing=spacing,
+            penalty_factor=penalty,
+            store=store,
+        )
+        _stage(progress, "solve")
+        result = model.problem.solve()
+        try:  # a load that reaches the edge of a zone grid's band: solved on a wider band
+            reach = check_zone_reach([*model.grids.values(), *model.coast_grids.values()], result)
+            break
+        except ZoneReachError as exc:
+            inputs, widened = _wider_band(inputs, exc, widened)
     t_solve = time.perf_counter()
     _stage(progress, "post")
     train = train_results(model, result)
@@ -304,6 +311,8 @@ def solve_position(
     # grid's cells; each station's pair is in the mesh's stations["line"])
     out["grid_lines"] = {k: v[1].lines for k, v in model.grids.items()}
     out["zone_reach_um"] = reach
+    out["zone_gap_limit_um"] = inputs.zone_gap_limit_mm * 1e3
+    out["zone_gap_widened"] = widened
     out["g0_max_abs_mm"] = float(max(np.abs(v[0].gap0).max() for v in model.grids.values()))
     position = Position(out)
     if keep_fields:
@@ -314,6 +323,35 @@ def solve_position(
 
         position.write_fields = write_fields
     return position
+
+
+#: solves of one position on a band widened after a refusal of the reach check, at most
+WIDENINGS = 3
+
+
+def _wider_band(inputs: TrainInputs, exc: ZoneReachError, widened: dict | None):
+    """The inputs with the gap limit the reach check suggests (:func:`solvers.zone_reach.
+    suggested_limit_um`) and the record of the widening (``from_um``: the case's limit,
+    ``to_um``, ``reach_um``: the reach that asked for it, ``solves``); ``exc`` again where
+    the suggestion is no wider (the largest limit) or after :data:`WIDENINGS` widenings.
+
+    The band is a numerical setting: cells only, the answer no longer depends on it once the
+    reach check holds (``solvers.zone_reach``). A softer bearing, a higher torque or a sweep
+    of them moves the load further into the band than the case's limit allows; the position
+    is then solved on the band that holds it instead of refused, and says so."""
+    limit = inputs.zone_gap_limit_mm * 1e3
+    reach = max(exc.partial.get("zone_reach_um", {}).values(), default=0.0)
+    wider = suggested_limit_um(reach)
+    solves = 1 if widened is None else widened["solves"]
+    if not wider > limit or solves > WIDENINGS:
+        raise exc
+    record = {
+        "from_um": limit if widened is None else widened["from_um"],
+        "to_um": wider,
+        "reach_um": reach,
+        "solves": solves + 1,
+    }
+    return replace(inputs, zone_gap_limit_mm=wider * 1e-3), record
 
 
 def _stage(progress: Callable[[str], None] | None, name: str) -> None:

@@ -347,7 +347,7 @@ def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress
         f"reading the convergence studies under {out_root}",
     )
     summary.update(found)
-    found_now = plausibility_warnings(study, summary)
+    found_now = plausibility_warnings(study, summary) + widened_bands(study, solved)
     found_now += [  # a damaged or edited study is not passed over in silence
         f"{study.name}: convergence study skipped for the ±: {why}"
         for why in (summary.get("uncertainty_source") or {}).get("skipped") or []
@@ -370,6 +370,23 @@ def _run(study, out_root: Path, out: Path, settings: RunSettings, comm, progress
         f"{time.perf_counter() - t0:.1f} s -> {out / 'summary.json'}"
     )
     return summary
+
+
+def widened_bands(study: StudyCase, solved: list[dict]) -> list[str]:
+    """A warning naming the positions solved on a zone band wider than the case's
+    (:func:`studies.position.solve_position`), with the limit that would hold them."""
+    wide = [p for p in solved if p.get("zone_gap_widened")]
+    if not wide:
+        return []
+    to = max(p["zone_gap_widened"]["to_um"] for p in wide)
+    reach = max(p["zone_gap_widened"]["reach_um"] for p in wide)
+    return [
+        f"{study.name}: position{'s' * (len(wide) > 1)} "
+        f"{_numbers([p['position'] for p in wide])} reached {reach:.1f} um into the zone band "
+        f"of [numerics] zone_gap_limit_um = {wide[0]['zone_gap_widened']['from_um']:g} and "
+        f"{'were' if len(wide) > 1 else 'was'} solved on a band of up to {to:g} um (set it in "
+        "the case file to solve every position on one band at once)"
+    ]
 
 
 def _numbers(ks: list[int]) -> str:
@@ -468,7 +485,7 @@ def _pictures(study: StudyCase, solved: list[dict], out: Path, level, comm, prog
             progress.warn(f"{exc}; summary.json is written")
 
 
-class _Parser(argparse.ArgumentParser):
+class Parser(argparse.ArgumentParser):
     """Usage errors on one line from rank 0, exit code 2 (invalid input)."""
 
     def error(self, message):
@@ -478,15 +495,24 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_INVALID_INPUT)
 
 
+#: the exit codes as the --help epilog gives them
+EXIT_EPILOG = (
+    "exit status: 0 ok, 1 a position failed (finished ones kept), 2 invalid input, "
+    "3 a result file could not be written or read, 4 MPI ranks out of step (aborted), "
+    "5 unexpected error"
+)
+
+
 def parse_args(argv=None, prog: str = "python -m studies.run") -> argparse.Namespace:
-    ap = _Parser(
-        prog=prog,
-        description=__doc__.splitlines()[0],
-        epilog="exit status: 0 ok, 1 a position failed (finished ones kept), 2 invalid input, "
-        "3 a result file could not be written or read, 4 MPI ranks out of step (aborted), "
-        "5 unexpected error",
-    )
+    ap = Parser(prog=prog, description=__doc__.splitlines()[0], epilog=EXIT_EPILOG)
     ap.add_argument("cases", nargs="+", help="case names (cases/<name>.toml) or case file paths")
+    add_run_options(ap)
+    return ap.parse_args(argv)
+
+
+def add_run_options(ap: argparse.ArgumentParser) -> None:
+    """The options of one run of a case (level, positions, results folder, scene, root
+    fillets, out of core, reuse, quiet, traceback), shared by ``run`` and ``sweep``."""
     ap.add_argument(
         "--level",
         type=int,
@@ -529,7 +555,6 @@ def parse_args(argv=None, prog: str = "python -m studies.run") -> argparse.Names
         action="store_true",
         help="print Python tracebacks of errors (for a bug report)",
     )
-    return ap.parse_args(argv)
 
 
 def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m studies.run") -> int:
