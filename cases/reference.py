@@ -215,9 +215,10 @@ CASE_FIELDS: dict[str, dict[str, FieldDoc]] = {
             _interval(*sc.ZONE_GAP_RANGE),
             '`"zone"` only: grid cells are laid where the unloaded '
             "separation (modifications included) is within this of the "
-            "smallest in its transverse section; a solve whose load reaches "
-            "cells more than half of it above is refused with the limit to set "
-            "(`zone_reach_um` in the position files).",
+            "smallest in its transverse section; a position whose load reaches "
+            "cells more than half of it above is solved again on the band the "
+            "check names, and the summary warns (`zone_reach_um`, "
+            "`zone_gap_widened` in the position files).",
         ),
         "linear_solver": FieldDoc(
             "string",

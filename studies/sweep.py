@@ -351,7 +351,7 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "planetary-fe s
                     comm, lambda p=planned: write_variants(p), f"writing the variants in {folder}"
                 )
                 plans.append((sw, folder, files))
-            for sw, folder, files in plans:  # every variant checked before any is solved
+            for _, folder, files in plans:  # every variant checked before any is solved
                 checked = argparse.Namespace(
                     **{**vars(args), "cases": [str(f) for f in files], "out": folder}
                 )
