@@ -57,8 +57,6 @@ class BodyColumns:
         self.index: dict[bytes, int] = {}
         self._cols: OrderedDict[int, tuple] = OrderedDict()  # node -> (rows, S, D), oldest first
         self.entries = 0
-        self.formed = 0  # columns written
-        self.read_count = 0  # columns read instead of solved
 
     def __len__(self) -> int:
         """The number of columns held."""
@@ -99,7 +97,6 @@ class BodyColumns:
             self._cols.move_to_end(int(j))
             k = np.searchsorted(r, rows)
             S[:, i], D[:, i] = s[k], d[k]
-        self.read_count += len(cols)
         return S, D
 
     def write(self, rows: np.ndarray, cols: np.ndarray, S: np.ndarray, D=None) -> None:
@@ -111,7 +108,6 @@ class BodyColumns:
             if old is not None:
                 self.entries -= len(old[0])
             self._put(int(j), np.asarray(rows, dtype=np.int64), S[:, i], D[:, i])
-        self.formed += len(cols)
 
     def extend(self, col: int, rows: np.ndarray, S: np.ndarray, D=None) -> None:
         """Add entries of column node ``col`` at row nodes ``rows`` it had none at."""

@@ -60,7 +60,7 @@ def check_contact_size(study, spacing: float, scene, comm=None, memory: int | No
     (mm) needs more than MEMORY_SHARE of ``memory`` on the ranks of ``comm`` (module
     docstring); the message names the spacing that fits. ``memory`` defaults to this
     machine's. Not collective: a rank that refuses while others pass (machines of different
-    sizes) is shared by the command's input check (studies.run._inputs_valid, which every
+    sizes) is shared by the command's input check (studies.run.inputs_valid, which every
     rank joins) before anything is solved. Pure geometry: the
     grids of one position, about a second; below PROBE_SPACING the cells are counted at it
     and scaled (1-GA: 15205 cells at 0.2 mm give 60820 at 0.1, 57977 counted)."""

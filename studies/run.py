@@ -568,7 +568,7 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m stud
     # unwinding alone would wait in a collective for the others)
     try:
         with interrupt_on_sigterm():
-            if not _inputs_valid(args, comm, progress, ranks):
+            if not inputs_valid(args, comm, progress, ranks):
                 return EXIT_INVALID_INPUT
             for name in args.cases:  # a failed case does not stop the others
                 status = max(status, run_case(name, args, comm, progress, ranks, store))
@@ -582,7 +582,8 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "python -m stud
     return status
 
 
-def _options(args: argparse.Namespace) -> CaseOptions:
+def case_options(args: argparse.Namespace) -> CaseOptions:
+    """What the command line asks of every case beyond its file."""
     return CaseOptions(
         level=args.level,
         positions=args.positions,
@@ -592,7 +593,7 @@ def _options(args: argparse.Namespace) -> CaseOptions:
     )
 
 
-def _inputs_valid(args: argparse.Namespace, comm, progress: Progress, ranks: Ranks) -> bool:
+def inputs_valid(args: argparse.Namespace, comm, progress: Progress, ranks: Ranks) -> bool:
     """Every case of the command line checked as input (:func:`prepare_study`) before any
     is solved, so code 2 keeps its meaning with several cases: one invalid case file beside
     valid ones stops the command before a position is solved, each invalid one named on a
@@ -601,7 +602,7 @@ def _inputs_valid(args: argparse.Namespace, comm, progress: Progress, ranks: Ran
     for name in args.cases:
         failure = None
         try:
-            prepare_study(name, args.out, _options(args), comm)
+            prepare_study(name, args.out, case_options(args), comm)
         except INPUT_ERRORS as exc:
             failure = (EXIT_INVALID_INPUT, with_path(one_line(exc), name), traceback.format_exc())
         except Exception:  # not input: the run meets it again and reports it
@@ -633,7 +634,7 @@ def run_case(
             name,
             args.out,
             comm,
-            options=_options(args),
+            options=case_options(args),
             progress=progress,
             ranks=ranks,
             store=store,

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import json
 import math
 import re
 import tomllib
@@ -44,8 +45,8 @@ from pathlib import Path
 import tomli_w
 from mpi4py import MPI
 
-from cases.gearset import GEARSET_DIR, NAME_PATTERN, CaseError, read_toml
-from cases.study_case import CASE_DIR
+from cases.gearset import NAME_PATTERN, CaseError
+from cases.study_case import inputs_hash, load_study_case
 from postprocess.paper_moments import MEAN_KEYS
 from solvers.body_store import BodyStore
 from studies.cli import (
@@ -59,8 +60,17 @@ from studies.cli import (
 )
 from studies.files import ResultFileError, on_root, read_json, write_json
 from studies.progress import Progress
+from studies.provenance import code_hash
 from studies.ranks import Ranks
-from studies.run import EXIT_EPILOG, Parser, _inputs_valid, add_run_options, run_case
+from studies.run import (
+    EXIT_EPILOG,
+    Parser,
+    add_run_options,
+    case_options,
+    inputs_valid,
+    prepare_study,
+    run_case,
+)
 
 #: the tables of a case file a field may name (``gearset.<path>`` names its gear set's)
 CASE_TABLES = ("bearing", "material", "model", "numerics", "system")
@@ -145,30 +155,15 @@ def _set(table: dict, path: list[str], value, field: str, where: str) -> None:
     node[path[-1]] = value
 
 
-def _gearset_file(data: dict, case_path: Path) -> Path:
-    """The gear-set file a case file names (a bare name or a path relative to it)."""
-    value = str(data.get("gearset", ""))
-    if value.endswith(".toml"):
-        target = Path(value)
-        return target if target.is_absolute() else (case_path.parent / target)
-    return GEARSET_DIR / f"{value}.toml"
-
-
-def case_path(name_or_path: str) -> Path:
-    """The file of a case given as on ``planetary-fe run``'s command line."""
-    p = Path(name_or_path)
-    return p if p.suffix == ".toml" else CASE_DIR / f"{name_or_path}.toml"
-
-
 def variants(case: str, sweep: Sweep, folder: Path) -> list[tuple[Path, dict, dict | None]]:
     """Per value of ``sweep``: (its case file ``<folder>/<case>_<value>.toml``, the case
     file's tables with the value set and the variant named so, and for a gear-set field the
-    gear set's tables with the value set, to be written beside it as ``.gearset.toml``). A
-    gear set the case names by path is named by absolute path. Nothing is written."""
-    path = case_path(case)
-    data = read_toml(path)
-    base = str(data.get("name", path.stem))
-    gs_file = _gearset_file(data, path)
+    gear set's tables with the value set, to be written beside it as ``.gearset.toml``). The
+    case is loaded (and so checked) first; a gear set it names by path is named by absolute
+    path. Nothing is written."""
+    study = load_study_case(case)
+    data = copy.deepcopy(study.source)
+    base, gs_file = study.name, Path(study.gearset.path)
     if str(data.get("gearset", "")).endswith(".toml"):
         data["gearset"] = str(gs_file.resolve())
     out = []
@@ -177,14 +172,14 @@ def variants(case: str, sweep: Sweep, folder: Path) -> list[tuple[Path, dict, di
         target = folder / f"{name}.toml"
         variant = copy.deepcopy(data)
         variant["name"] = name
-        variant["description"] = f"{data.get('description', base)}; sweep: {sweep.field} = {label}"
+        variant["description"] = f"{study.description}; sweep: {sweep.field} = {label}"
         gs = None
         if sweep.path[0] == "gearset":
-            gs = read_toml(gs_file)
+            gs = copy.deepcopy(study.gearset.source)
             _set(gs, sweep.path[1:], value, sweep.field, gs_file.name)
             variant["gearset"] = str(target.with_suffix(".gearset.toml").resolve())
         else:
-            _set(variant, sweep.path, value, sweep.field, path.name)
+            _set(variant, sweep.path, value, sweep.field, Path(study.path).name)
         out.append((target, variant, gs))
     return out
 
@@ -215,21 +210,37 @@ def quantities(summary: dict) -> dict[str, float | None]:
     return out
 
 
-def sweep_record(case: str, sweep: Sweep, files: list[Path], folder: Path) -> dict:
+def sweep_record(case: str, sweep: Sweep, files: list[Path], folder: Path, made: list) -> dict:
     """``sweep.json``: per variant its value, case file, result folder and quantities, read
-    from its summary (or why there are none)."""
+    from its summary where that summary was made from the variant as this sweep ran it
+    (``made``: per variant its inputs hash and the code hash); a summary an earlier sweep
+    left (other inputs, other code: this run wrote none) is not read."""
     rows = []
-    for value, label, f in zip(sweep.values, sweep.labels, files, strict=True):
+    for value, label, f, key in zip(sweep.values, sweep.labels, files, made, strict=True):
         run = folder / f.stem
         row = {"value": value, "label": label, "case_file": f.name, "folder": run.name}
-        try:
-            row["quantities"] = quantities(read_json(run / "summary.json"))
-        except ResultFileError as exc:
-            why = "no summary.json: its run failed or was stopped (see its messages)"
-            row["quantities"] = None
-            row["missing"] = why if not (run / "summary.json").exists() else one_line(exc)
+        row["quantities"], row["missing"] = None, None
+        if not (run / "summary.json").exists():
+            row["missing"] = "no summary.json: its run failed or was stopped (see its messages)"
+        else:
+            try:
+                summary = read_json(run / "summary.json")
+                if (summary.get("inputs_hash"), summary["provenance"]["code_hash"]) != key:
+                    row["missing"] = (
+                        "its summary.json is from other inputs or code (this run wrote none)"
+                    )
+                else:
+                    row["quantities"] = quantities(summary)
+                    row["run"] = {
+                        "sizes": summary.get("run"),
+                        "positions": len(summary.get("positions") or []),
+                        "root_stress": summary.get("bending_stress_method"),
+                    }
+                    row["warnings"] = list(summary.get("warnings") or [])
+            except (ResultFileError, KeyError, TypeError) as exc:
+                row["missing"] = f"its summary.json cannot be read ({one_line(exc)})"
         rows.append(row)
-    return {"case": case_path(case).stem, "field": sweep.field, "variants": rows}
+    return {"case": load_study_case(case).name, "field": sweep.field, "variants": rows}
 
 
 def _number(v) -> str:
@@ -246,16 +257,27 @@ def write_sweep(record: dict, folder: Path) -> list[Path]:
         f"# {record['case']}: sweep of {field}",
         "",
         "Means over the mesh positions of each variant (moments N m, centroids mm); each "
-        "variant's case file and results are in its folder here. ![sweep](sweep.png)",
+        "variant's case file and results are in its folder here.",
+        "",
+        "![sweep](sweep.png)",
         "",
         "| quantity | " + " | ".join(r["label"] for r in done) + " |",
         "|---" * (len(done) + 1) + "|",
     ]
     for q in names:
         lines.append(f"| {q} | " + " | ".join(_number(r["quantities"].get(q)) for r in done) + " |")
-    for r in rows:
-        if r["quantities"] is None:
-            lines += ["", f"- {field} = {r['label']}: no results ({r['missing']})"]
+    runs = {json.dumps(r["run"], sort_keys=True) for r in done}
+    for run in sorted(runs):
+        r = json.loads(run)
+        lines += [
+            "",
+            f"Run: sizes {r['sizes']}, {r['positions']} position(s); root stress: "
+            f"{r['root_stress'] or 'not read'}.",
+        ]
+    notes = [f"{field} = {r['label']}: {w}" for r in done for w in r["warnings"]]
+    notes += [f"{field} = {r['label']}: no results ({r['missing']})" for r in rows if r not in done]
+    if notes:
+        lines += ["", "## Warnings and missing variants", ""] + [f"- {n}" for n in notes]
     paths = [folder / "sweep.json", folder / "sweep.md", folder / "sweep.png"]
     write_json(paths[0], record)
     paths[1].write_text("\n".join(lines) + "\n")
@@ -306,8 +328,9 @@ def _plot(title: str, field: str, done: list[dict], names: list[str], path: Path
 
 
 def sweep_folder(out: Path, case: str, field: str) -> Path:
-    """``<out>/sweeps/<case file stem>/<field>``."""
-    return Path(out) / "sweeps" / case_path(case).stem / re.sub(r"[^A-Za-z0-9_.+-]", "_", field)
+    """``<out>/sweeps/<case name>/<field>``."""
+    name = load_study_case(case).name
+    return Path(out) / "sweeps" / name / re.sub(r"[^A-Za-z0-9_.+-]", "_", field)
 
 
 def parse_args(argv=None, prog: str = "planetary-fe sweep") -> argparse.Namespace:
@@ -333,9 +356,8 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "planetary-fe s
         sweeps = [parse_set(s) for s in args.sets]
         if len({s.field for s in sweeps}) != len(sweeps):
             raise InputError("--set: a field is swept twice")
-        if not case_path(args.case).is_file():
-            raise InputError(f"{args.case}: no such case file ({case_path(args.case)})")
-    except InputError as exc:
+        load_study_case(args.case)
+    except (InputError, CaseError) as exc:
         progress.error(one_line(exc))
         return EXIT_INVALID_INPUT
     ranks = Ranks(comm, log=Path(args.out) / "aborted.log")
@@ -355,7 +377,7 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "planetary-fe s
                 checked = argparse.Namespace(
                     **{**vars(args), "cases": [str(f) for f in files], "out": folder}
                 )
-                if not _inputs_valid(checked, comm, progress, ranks):
+                if not inputs_valid(checked, comm, progress, ranks):
                     return EXIT_INVALID_INPUT
             for sw, folder, files in plans:
                 variant = argparse.Namespace(**{**vars(args), "out": folder})
@@ -363,7 +385,11 @@ def main(argv=None, comm: MPI.Comm = MPI.COMM_WORLD, prog: str = "planetary-fe s
                     status = max(status, run_case(str(f), variant, comm, progress, ranks, store))
                     if status == EXIT_INTERRUPTED:
                         break
-                record = sweep_record(args.case, sw, files, folder)
+                made = [
+                    (inputs_hash(prepare_study(str(f), folder, case_options(args))[0]), code_hash())
+                    for f in files
+                ]
+                record = sweep_record(args.case, sw, files, folder, made)
                 on_root(
                     comm,
                     lambda r=record, d=folder: write_sweep(r, d),
