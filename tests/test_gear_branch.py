@@ -19,6 +19,7 @@ from statics import gear_torque, mesh_records, off_line_share, sun_force
 from cases.study_case import load_study_case
 from gears.profile import involute_deviation
 from meshing.scenes import branch_scene
+from solvers.body_store import BodyStore
 from solvers.flank_grid import flank_grid
 from studies.case_variants import global_root_stress
 from studies.position import PositionExtras, solve_position
@@ -97,9 +98,16 @@ def line_model(case):
 
 
 @pytest.fixture(scope="module")
-def ga():
+def ga_store():
+    """1-GA's bodies and root-stress sectors, set up by ``ga`` for the module's other solves
+    of 1-GA on its sectors (reused: the same numbers to round-off, test_system_scene)."""
+    return BodyStore()
+
+
+@pytest.fixture(scope="module")
+def ga(ga_store):
     return solve_position(
-        load_study_case("1-GA"), 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1)
+        load_study_case("1-GA"), 0.0, MPI.COMM_SELF, RunSettings(level=0, degree=1), store=ga_store
     )
 
 
@@ -318,10 +326,11 @@ def test_branch_parallel_equals_serial():
     assert MPI.COMM_WORLD.allreduce(1) == MPI.COMM_WORLD.size
 
 
-def test_a_position_may_read_other_sectors_only(ga):
+def test_a_position_may_read_other_sectors_only(ga, ga_store):
     """``own_sectors=False`` (the sector diagnostics): nothing read on the level's own
     sectors, and the same sectors asked for through ``submodel_levels`` read what the own
-    read does (the same driver, sector mesh, loads and first guess)."""
+    read does (the same driver, sector mesh, loads and first guess; the sectors ``ga`` set
+    up, taken from the store under the ladder's key)."""
     from meshing.submodel import submodel_level
 
     only = solve_position(
@@ -329,6 +338,7 @@ def test_a_position_may_read_other_sectors_only(ga):
         0.0,
         MPI.COMM_SELF,
         RunSettings(level=0, degree=1),
+        store=ga_store,
         extras=PositionExtras(submodel_levels=(0,), own_sectors=False),
     )
     assert only["bending_stress"] is None
