@@ -293,13 +293,25 @@ def accepted_fields() -> dict[str, tuple[str, ...]]:
 
 
 # Range checks: field -> (low, high, inclusive bounds), in the units of the dataclasses.
+# The radial stiffness's floor is the softest needle bearing (1e5 N/mm, studies.plausibility):
+# softer, the pinion floats beyond the contact zone a grid represents (case 1 at level 0 and
+# its torque: 1e4 N/mm loaded gaps past the largest zone band, 3e4 solved at that band).
 _RANGES = {
-    "bearing.radial_stiffness": (1e2, 1e12),
+    "bearing.radial_stiffness": (1e5, 1e12),
     "bearing.tilting_stiffness": (1e3, 1e14),
     "bearing.axial_stiffness": (1e2, 1e12),
     "material.youngs_modulus": (1e3, 1e7),
     "material.poisson_ratio": (0.0, 0.49),
     "material.gear_modulus_factor": (0.01, 100.0),
+}
+
+
+# What a value beyond a range's end would do, said with the refusal.
+_RANGE_REASONS = {
+    "bearing.radial_stiffness": (
+        " (a softer bearing lets the pinion float under load beyond the contact zone the"
+        " grid represents; needle bearings are 1e5-1e7 N/mm)"
+    ),
 }
 
 
@@ -315,7 +327,10 @@ def _ranged(section: dict, key: str, prefix: str, source: str, default=None) -> 
     value = section.get(key, default)
     lo, hi = _RANGES[field_name]
     if not _real(value) or not lo <= value <= hi:
-        raise CaseError(f"{source}: {field_name} = {value!r}: must be a number in [{lo:g}, {hi:g}]")
+        why = _RANGE_REASONS.get(field_name, "")
+        raise CaseError(
+            f"{source}: {field_name} = {value!r}: must be a number in [{lo:g}, {hi:g}]{why}"
+        )
     return float(value)
 
 

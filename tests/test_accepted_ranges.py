@@ -2,8 +2,10 @@
 either solves or is refused with code 2 before anything is meshed. The grid spacing's lower
 end asks for a contact grid no machine holds (the cells grow as 1 / spacing^2): refused up
 front with the spacing that fits (studies.contact_size). The largest helix angle with the
-largest grid spacing, the case that failed in the gap operator, solves at level 0."""
+largest grid spacing, the case that failed in the gap operator, solves at level 0; so does
+each end of each bearing stiffness's range."""
 
+import io
 import json
 import math
 import re
@@ -14,12 +16,14 @@ import pytest
 from test_high_helix import helix_case
 
 from cases.gearset import CaseError
-from cases.study_case import GRID_SPACING_RANGE, load_study_case
+from cases.study_case import _RANGES, GRID_SPACING_RANGE, load_study_case
 from gears.spec import HELIX_ANGLE_RANGE
+from solvers.body_store import BodyStore
 from solvers.gear_train import contact_grids
 from studies.contact_size import check_contact_size
 from studies.position import study_scene, train_inputs
-from studies.run import main
+from studies.progress import Progress
+from studies.run import main, run_study
 
 GB = 1e9
 
@@ -81,3 +85,46 @@ def test_the_largest_helix_angle_at_the_largest_spacing_solves(tmp_path):
     summary = json.loads((out / "ends" / "summary.json").read_text())
     assert not summary.get("failed_positions")
     assert math.isfinite(summary["positions"][0]["My_pin"])
+
+
+#: each end of each bearing stiffness's accepted range (cases.study_case)
+BEARING_ENDS = [
+    (name, value)
+    for name in ("radial_stiffness", "tilting_stiffness", "axial_stiffness")
+    for value in _RANGES[f"bearing.{name}"]
+]
+
+
+@pytest.fixture(scope="module")
+def bearing_store():
+    """The gears' bodies for every bearing end (the bearing is outside the bodies)."""
+    return BodyStore()
+
+
+@pytest.mark.parametrize("name, value", BEARING_ENDS)
+def test_a_bearing_at_either_end_of_its_ranges_solves(tmp_path, bearing_store, name, value):
+    """1-GB at level 0, one position, no root stress, one bearing stiffness at an end of
+    what the case file accepts: it solves (a band the load reaches past is widened,
+    studies.position), with finite moments; the radial floor is the softest needle bearing
+    (below it the pinion floated past the largest zone band: refused,
+    tests/test_trust_driver.py)."""
+    gearset = Path(load_study_case("1-GB").gearset.path).resolve()
+    text = Path(load_study_case("1-GB").path).read_text()
+    text = text.replace('name = "1-GB"', 'name = "ends"')
+    text = text.replace('gearset = "case1"', f'gearset = "{gearset}"')
+    text = re.sub(rf"(?m)^{name} = .*", f"{name} = {value!r}", text)
+    if name == "axial_stiffness":  # 1-GB leaves it at its default
+        text = text.replace("[bearing]", f"[bearing]\naxial_stiffness = {value!r}", 1)
+    text = re.sub(r"(?m)^level = 1.*", "level = 0", text)
+    text = re.sub(r"(?m)^(flank|fillet)_level = .*\n", "", text)
+    text = re.sub(r"(?m)^positions = .*", "positions = 1", text)
+    text = text.replace("[numerics]", '[numerics]\nroot_stress = "none"', 1)
+    case = tmp_path / "ends.toml"
+    case.write_text(text)
+    study = load_study_case(case)
+    assert getattr(study.bearing, name) == value  # the end itself reached the solve
+    quiet = Progress(out=io.StringIO(), err=io.StringIO(), quiet=True)
+    summary = run_study(case, tmp_path / "out", store=bearing_store, progress=quiet)
+    assert not summary.get("failed_positions")
+    for key in ("My_pin", "Mx_pin", "M_LOA_sun", "M_LOA_ring"):
+        assert math.isfinite(summary["positions"][0][key]), key

@@ -611,16 +611,37 @@ def test_ordinary_load_gives_no_warning(stub, tmp_path, capsys):
     assert summary["warnings"] == [] and "warning" not in capsys.readouterr().err
 
 
-def test_a_bearing_stiffness_in_another_unit_warns_before_the_solve(
-    stub, tmp_path, capsys, monkeypatch
+def test_a_bearing_softer_than_any_needle_bearing_is_refused_before_the_solve(
+    stub, tmp_path, capsys
 ):
-    """Issue 57: a radial stiffness of 800 N/mm was accepted without a word. It warns (the
-    usual range and the likely unit), before the first position and in the summary's
-    warnings, and the run goes on; the shipped cases' bearings give no warning."""
+    """Issue 57: a radial stiffness of 800 N/mm was accepted, first without a word, then
+    with a warning, and cannot be solved: the pinion floats beyond the contact zone a grid
+    represents (case 1 at level 0: 1e4 N/mm ends in the zone-reach error at the largest
+    band). Below the softest needle bearing (1e5 N/mm) it is refused with exit 2 before
+    anything is solved, naming the file, the field, the range and why."""
     text = Path(load_study_case("1-GA").path).read_text()
     assert "radial_stiffness = 2.33e8" in text
     case = tmp_path / "1-GA.toml"
     case.write_text(text.replace("radial_stiffness = 2.33e8", "radial_stiffness = 800.0"))
+    assert cli(tmp_path, case, "--level", 0, "--positions", N_POS) == 2
+    line = one_error_line(capsys.readouterr().err)
+    assert str(case) in line and "bearing.radial_stiffness = 800.0" in line
+    assert "[100000, 1e+12]" in line and "float under load" in line
+    assert stub.calls == [] and not stub.out.exists()
+
+
+def test_a_bearing_stiffness_in_another_unit_warns_before_the_solve(
+    stub, tmp_path, capsys, monkeypatch
+):
+    """Issue 57: a pair of bearing stiffnesses that no needle bearing has (here the
+    paper's flexible radial stiffness beside 1-GA's rigid tilting one: a bearing 673 mm
+    long) warns, with the usual range and the likely unit, before the first position and in
+    the summary's warnings, and the run goes on; the shipped cases' bearings give no
+    warning."""
+    text = Path(load_study_case("1-GA").path).read_text()
+    assert "radial_stiffness = 2.33e8" in text and "tilting_stiffness = 8.80e9" in text
+    case = tmp_path / "1-GA.toml"
+    case.write_text(text.replace("radial_stiffness = 2.33e8", "radial_stiffness = 2.33e5"))
     said = []  # stderr at each solve
 
     def solve(*args, **kw):
@@ -631,11 +652,10 @@ def test_a_bearing_stiffness_in_another_unit_warns_before_the_solve(
     assert cli(tmp_path, case, "--level", 0, "--positions", N_POS) == 0
     err = "".join(said) + capsys.readouterr().err
     warnings = json.loads((stub.out / "summary.json").read_text())["warnings"]
-    assert len(warnings) == 2  # softer than any needle bearing, and a 2000 mm long one
-    assert "radial_stiffness = 800 N/mm is below 1e+05 N/mm" in warnings[0]
-    assert "imply a bearing" in warnings[1] and "another unit" in warnings[1]
-    assert all(err.count(f"warning: {w}") == 1 for w in warnings)  # said once, up front
-    assert all(f"warning: {w}" in said[0] for w in warnings)  # before the first solve
+    assert len(warnings) == 1
+    assert "imply a bearing 673 mm long" in warnings[0] and "another unit" in warnings[0]
+    assert err.count(f"warning: {warnings[0]}") == 1  # said once, up front
+    assert f"warning: {warnings[0]}" in said[0]  # before the first solve
     for name in ("1-GA", "1-GB", "1-GC", "1-GB-R", "2B-GA", "2B-GB", "parker2000-3"):
         assert input_warnings(load_study_case(name)) == [], name
 
