@@ -27,13 +27,6 @@ gear is far outside its range; they are not design limits.
 
 The inputs are checked too (:func:`input_warnings`, said before the solve; the run goes on):
 
-* (A bearing radial stiffness below 1e5 N/mm is refused by the case file's check, not
-  warned of: a needle bearing's is of the order k_r = F / (0.9 delta) with the line-contact
-  approach delta = 3.84e-5 Q^0.9 / l^0.8 (mm, N; Harris & Kotzalas, Rolling Bearing
-  Analysis): 15 rollers of 15 mm under 5 kN give about 2e6 N/mm, the paper's normal bearing
-  2.33e6, its flexible one (1-GC) 2.33e5; a softer one lets the pinion float beyond the
-  contact zone the grid represents. A stiff value is not flagged: a rigid bearing is a
-  common idealisation, 1-GA: 2.33e8.)
 * The length a bearing's two stiffnesses imply, L = sqrt(12 k_tilt / k_r) (a uniform row of
   springs of length L has k_tilt = k_r L^2 / 12), outside 2-200 mm: the paper's bearings give
   21 mm. One of the two is then most likely in another unit (N m/rad instead of N mm/rad).
