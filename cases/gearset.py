@@ -211,6 +211,29 @@ def _number(data: dict, key: str, where: str, *, positive: bool = True) -> float
 MIN_FACE_MODULES = 4.0
 
 
+#: shifts (x) a gear whose shift follows from its centre distance is first built at when it
+#: is not a valid gear at x = 0 (a planet of few teeth is undercut there), nearest 0 first:
+#: what is read of it before its shift is known (teeth, module, angles) does not depend on
+#: x. Steps of 0.05: a 6-tooth gear of the ISO 53 rack is valid for x in 0.30-0.35 only
+_PROVISIONAL_SHIFTS = tuple(sorted((0.05 * k for k in range(-10, 31) if k), key=abs))
+
+
+def _gear_spec(name: str, fields: dict, where: str, shifted_later: bool) -> GearSpec:
+    """The gear ``name`` of a gear-set file. A gear whose profile shift follows from the
+    centre distances (every gear after the first of the power path) is judged at that shift
+    (:func:`gears.pair.assign_chain_shifts`), not at the file's x = 0: where x = 0 does not
+    make a valid tooth it is built at a provisional shift until then."""
+    try:
+        return GearSpec(name=name, **fields)
+    except GeometryError as exc:
+        for x in _PROVISIONAL_SHIFTS if shifted_later else ():
+            try:
+                return GearSpec(name=name, **fields, profile_shift=x)
+            except GeometryError:
+                continue
+        raise CaseError(f"{where}: {exc}") from exc
+
+
 def _check_face_width(gear: GearSpec, where: str) -> None:
     least = MIN_FACE_MODULES * gear.normal_module
     _require(
@@ -322,6 +345,8 @@ def parse_gearset(
     gears: dict[str, GearSpec] = {}
     modifications: dict[str, FlankModifications] = {}
     _check_gear_names(list(raw_gears), source)
+    named_path = data.get("power_path")  # validated below, once the gears are known
+    shifted_later = set(named_path[1:]) if isinstance(named_path, list) else set()
     for gname, g in raw_gears.items():
         where = f"{source}: gears.{gname}"
         check_keys(g, _GEAR_FIELDS, source, f"gears.{gname}")
@@ -336,10 +361,7 @@ def parse_gearset(
             "shaper_teeth: only for an internal gear (the ring, cut by a pinion-type shaper); "
             "external gears are hobbed",
         )
-        try:
-            gears[gname] = GearSpec(name=gname, **{**common, **g})
-        except GeometryError as exc:
-            raise CaseError(f"{where}: {exc}") from exc
+        gears[gname] = _gear_spec(gname, {**common, **g}, where, gname in shifted_later)
         _check_face_width(gears[gname], where)
 
     power_path = data.get("power_path")

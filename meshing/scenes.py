@@ -78,6 +78,33 @@ def pinion_bore_radius(pin_diameter: float = PIN_DIAMETER) -> float:
     return 0.5 * pin_diameter + NEEDLE_DIAMETER
 
 
+def _check_bores(gearset, sun_bore: float, pin_bore: float, pin_diameter: float) -> None:
+    """MeshingError, in a gear engineer's terms, for a gear whose bore does not fit under its
+    root circle with a rim of a module (:meth:`meshing.gear_body.GearBody.validate`): a
+    planet too small for the pin and its needle bearing, a sun too small for a rim of
+    SUN_RIM_MODULES modules. A gear-set file cannot set either bore."""
+    path = gearset.power_path
+    for name in path[:-1]:
+        g = gearset.gears[name]
+        bore = sun_bore if name == path[0] else pin_bore
+        need = bore + g.normal_module
+        if 0.0 < bore and g.root_radius >= need:
+            continue
+        if name == path[0]:
+            why = f"a rim of {SUN_RIM_MODULES:g} normal modules under its root circle"
+        else:
+            why = (
+                f"its pin ({pin_diameter:g} mm) and needle bearing ({NEEDLE_DIAMETER:g} mm "
+                f"needles): a bore of {bore:g} mm radius and a rim of 1 normal module, so a "
+                f"root radius of at least {need:.3f} mm"
+            )
+        raise MeshingError(
+            f"gears.{name}: teeth = {g.teeth} at normal_module = {g.normal_module:g} mm gives "
+            f"a root radius of {g.root_radius:.3f} mm, too small for {why}: more teeth or a "
+            "larger module"
+        )
+
+
 @dataclass(frozen=True)
 class Scene:
     name: str
@@ -402,6 +429,7 @@ def planetary_scene(
     sun_pl = Placement(roll + offsets.pop(path[0], 0.0))
     sun_kw = {"inner_radius": sun_bore_radius(sun)}
     pin_kw = {"inner_radius": pinion_bore_radius(pin_diameter)}
+    _check_bores(gearset, sun_kw["inner_radius"], pin_kw["inner_radius"], pin_diameter)
     ring_kw = {"outer_radius": ring.root_radius + RING_RIM_THICKNESS}
     if all_planets:
         n = gearset.planets
