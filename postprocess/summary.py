@@ -336,6 +336,8 @@ def summarise(study, solved: list[dict], failed: list, meta: dict) -> dict:
         clipped = [c for p in solved if (c := p["timings"].get("correction_clipped")) is not None]
         zone = study.numerics.contact_model == "zone"
         summary["contact_correction_clipped"] = max(clipped) if zone and clipped else None
+        moved = [e for p in solved if (e := p["timings"].get("correction_clip_effect")) is not None]
+        summary["contact_correction_clip_effect"] = max(moved) if zone and moved else None
         if "branches" in solved[0]:
             summary.update(_system_means(study, solved))
     summary["coast"] = coast_summary(solved)  # smallest coast gap, coast load (None: no grids)

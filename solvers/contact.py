@@ -388,9 +388,74 @@ class ContactProblem:
         symmetric part projected onto the positive semidefinite matrices (eq. (6)); keeps
         the largest clipped ratio in ``timings["correction_clipped"]``."""
         c = grp["coarse"]
-        M, ratio = psd_projection(self.C_depth[np.ix_(c, c)] - grp["h_d"])
+        raw = self.C_depth[np.ix_(c, c)] - grp["h_d"]
+        M, ratio = psd_projection(raw)
         self.timings["correction_clipped"] = max(self.timings["correction_clipped"], ratio)
+        grp["clip"] = M - raw if ratio > 0.0 else None  # what eq. (6) added, for clip_effect
         return M
+
+    def _kind(self, ru: RigidUnknown) -> str:
+        """ "translation" or "rotation": what a rigid unknown moves (its unit)."""
+        if ru.body in self.bodies:
+            return "rotation" if ru.dof >= self.gdim else "translation"
+        return "rotation" if ru.axis is not None else "translation"
+
+    def _clip_effect(self, idx, free, M, rhs, F, r) -> tuple[float, float]:
+        """What the projection of eq. (6) moved in this solve, to first order: the saddle
+        system of the converged active set ``idx`` (matrix ``M``, right-hand side ``rhs``)
+        solved again with each tooth pair's correction as the FE gave it (the clip taken
+        back out of its active block). Returns ``(effect, redistribution)``: ``effect`` the
+        larger of the relative changes of each pair's resultant force (the load shares) and
+        of the free rigid unknowns, max_j |dr_j| / max_k |r_k| over the unknowns of the same
+        body and kind (translation or rotation: a bearing moment is a tilt times a
+        stiffness, a centroid follows the moments); ``redistribution`` the change of the cell
+        forces, ||dF||_1 / ||F||_1, which also holds their shift between neighbouring cells.
+        (0, 0) where nothing was clipped; inf where the unclipped system is singular. The
+        active set is kept, so a clip that would change which cells touch is seen only
+        through the forces it moves."""
+        nA = len(idx)
+        dM = np.zeros_like(M)
+        pos = np.full(self.n, -1)
+        pos[idx] = np.arange(nA)
+        for g in getattr(self, "near", []):
+            if g.get("clip") is None:
+                continue
+            f = g["fine"]
+            on = pos[f] >= 0
+            if on.any():
+                li = g["loc"][on]
+                dM[np.ix_(pos[f[on]], pos[f[on]])] = g["clip"][np.ix_(li, li)]
+        if not dM.any():
+            return 0.0, 0.0
+        out = (0.0, 0.0)
+        if self.comm.rank == 0:
+            try:
+                sol = np.linalg.solve(M - dM, rhs)
+            except np.linalg.LinAlgError:
+                sol = None
+            if sol is None or not np.all(np.isfinite(sol)):
+                out = (float("inf"), float("inf"))
+            else:
+                F_u = np.zeros(self.n)
+                F_u[idx] = sol[:nA]
+                moved = 0.0
+                for i in range(len(self.pairs)):
+                    sl = slice(self.offsets[i], self.offsets[i + 1])
+                    total = F[sl].sum()
+                    if total > 0:
+                        moved = max(moved, abs(F_u[sl].sum() - total) / total)
+                for j, v in zip(free, sol[nA:], strict=True):
+                    ru = self.rigid_unknowns[j]
+                    scale = max(
+                        abs(r[k])
+                        for k in free
+                        if self.rigid_unknowns[k].body == ru.body
+                        and self._kind(self.rigid_unknowns[k]) == self._kind(ru)
+                    )
+                    moved = max(moved, abs(v - r[j]) / max(scale, 1e-300))
+                spread = np.abs(F_u - F).sum() / max(np.abs(F).sum(), 1e-300)
+                out = (float(moved), float(spread))
+        return self.comm.bcast(out, root=0)
 
     def _depth_grids(self):
         """Per pair, the grid whose rows observe the FE at the matching depths of eq. (5)
@@ -874,6 +939,7 @@ class ContactProblem:
                 f"{g[k]:.4g} mm on pair '{pair.grid.name}'); the flanks do not touch",
                 partial={"history": history, "gaps": g},
             )
+        effect, spread = self._clip_effect(idx, free, M, rhs, F, r)
         t1 = MPI.Wtime()
         disp, red = {}, {}
         for name, b in self.bodies.items():
@@ -902,6 +968,8 @@ class ContactProblem:
             active_set=t1 - t0 - (self.timings["compliance"] - comp0),
             final_solve=t2 - t1,
             iterations=len(history),
+            correction_clip_effect=effect,
+            correction_clip_redistribution=spread,
         )
         return ContactResult(
             forces=F,
