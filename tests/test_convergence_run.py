@@ -13,6 +13,7 @@ import pytest
 from cases.study_case import load_study_case
 from meshing.submodel import submodel_level
 from postprocess.run_scalars import summary_scalars
+from solvers.body_store import BodyStore
 from studies import run as study_run
 from studies.case_options import CaseOptions
 from studies.convergence.position_runs import FILLET_SCALARS, solve_run
@@ -30,8 +31,10 @@ def level0(tmp_path_factory):
     the gear set under the results folder) and a convergence run of the same position."""
     out = tmp_path_factory.mktemp("results")
     # the submodel ladder's reading on the run's own submodel (level 0: level 1's sizes, 0.2 mm
-    # read fillets): the plumbing of fillet_scalars, checked against the run's own root stress
-    row = solve_run("1-GA", 0, 1, 1, submodel_levels=(0,))
+    # read fillets): the plumbing of fillet_scalars, checked against the run's own root stress.
+    # One store for both runs: the study driver's solve then reuses the bodies and sectors
+    store = BodyStore()
+    row = solve_run("1-GA", 0, 1, 1, submodel_levels=(0,), store=store)
     rows = []
     for level, seconds in ((0, 10.0), (1, 20.0), (2, 110.0)):  # a ladder around the real run
         scale = {0: 1.0, 1: 0.5, 2: 0.2}[level]
@@ -65,7 +68,7 @@ def level0(tmp_path_factory):
     stray = io.StringIO()  # what the solve itself writes to the process's stderr
     with contextlib.redirect_stderr(stray):
         summary = study_run.run_study(
-            "1-GA", out, options=CaseOptions(level=0, positions=1), progress=progress
+            "1-GA", out, options=CaseOptions(level=0, positions=1), progress=progress, store=store
         )
     return out, summary, row, table, stray.getvalue()
 

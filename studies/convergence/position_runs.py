@@ -99,6 +99,7 @@ def solve_run(
     submodel_levels: tuple[int, ...] = (),
     flank_level: int | None = None,
     fillet_level: int | None = None,
+    store: BodyStore | None = None,
 ) -> dict:
     """Solve ``positions`` equally spaced mesh positions of ``case`` (serial, bodies reused
     across them) at ``level``/``degree``; the run's row (see the module docstring).
@@ -108,7 +109,8 @@ def solve_run(
     (:func:`fillet_scalars`; timed apart, not in the run's time); ``flank_level``: the
     active flanks and contact grid at that level's size, ``fillet_level``: the named fine
     fillets at that level's (:func:`meshing.sizing.with_sizes`; the row keeps them, an
-    off-ladder run)."""
+    off-ladder run); ``store``: where the bodies and sectors are kept (default: a new store
+    that reuses them only over several positions)."""
     study = load_study_case(case)
     if numerics:
         try:
@@ -119,7 +121,7 @@ def solve_run(
     comm = MPI.COMM_WORLD
     # one position has nothing to reuse: without reuse each root-stress submodel is freed
     # after its solve instead of all being held beside the global factors (level 2: 22.5 GB)
-    store = BodyStore(reuse=positions > 1)
+    store = BodyStore(reuse=positions > 1) if store is None else store
     t0 = time.perf_counter()
 
     def progress(stage: str) -> None:  # the child's log (runs/<run>.log): where time goes
