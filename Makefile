@@ -114,6 +114,14 @@ case1: $(STAMP) ## the four case-1 FE cases and their report: results/case1/repo
 	$(MPIEXEC) -n $(NP) $(PY) -m studies.run $(CASE1) --out $(RESULTS) $(CASE_FLAGS) $(RUN_CODE)
 	$(PY) -m studies.paper.case1 --results $(RESULTS)
 
+# 1-GB's tilting stiffness over two decades around the paper's (8.8e6 is 1-GC's, 8.8e8 near
+# 1-GA's), its radial stiffness kept: the case-1 report's moments against the tilting stiffness
+TILTS ?= 8.8e6,2.8e7,8.8e7,2.8e8,8.8e8
+case1-sweep: $(STAMP) ### 1-GB's moments against its tilting stiffness (TILTS=...), in the case-1 report
+	$(MPIEXEC) -n $(NP) $(VENV)/bin/planetary-fe sweep 1-GB --set bearing.tilting_stiffness=$(TILTS) \
+	  --out $(RESULTS) $(CASE_FLAGS) $(RUN_CODE)
+	$(PY) -m studies.paper.case1 --results $(RESULTS)
+
 # The system scenes and their branch references run at SYSTEM_LEVEL's own sizes (--level):
 # at plain level 1 they already peak at 19-21 GB, so the case files' finer flanks and fillets
 # (every pinion's in the system scene) are not used there.

@@ -24,9 +24,10 @@ no body again after the first variant; a field that changes a mesh builds that b
 Beside the variants: ``sweep.json`` (every variant's value, case file, folder and the
 quantities below, or why it has none), ``sweep.md`` (a table, a row per quantity) and
 ``sweep.png`` (a panel per quantity against the swept value): the moments and centroids of
-the gear set's kind (means over the positions), per mesh the K_Hbeta of the summary and the
-largest interior contact stress, per loaded fillet the recovered root stress. A variant that
-fails is named there, and the others are kept.
+the gear set's kind (means over the positions; a single pinion's moments with their closed
+form at the variant's own load centroids, singh2007 Table 7, on the same panel), per mesh
+the K_Hbeta of the summary and the largest interior contact stress, per loaded fillet the
+recovered root stress. A variant that fails is named there, and the others are kept.
 
 Exit status: that of ``planetary-fe run``, the largest over the variants.
 """
@@ -194,14 +195,26 @@ def write_variants(planned: list[tuple[Path, dict, dict | None]]) -> list[Path]:
     return [t for t, _, _ in planned]
 
 
+#: the suffix of a moment's closed form beside the FE's (single pinion: singh2007 Table 7,
+#: the mesh forces at the FE's own load centroids ZS, ZR; postprocess.summary.
+#: analytic_reference), plotted on the FE moment's panel
+CLOSED_FORM = " closed form"
+
+
 def quantities(summary: dict) -> dict[str, float | None]:
     """What a sweep reports of one variant's summary: the kind's moments and centroids (not
-    the spin moments Mz, zero by the free spin), per mesh K_Hbeta and the largest interior
-    contact stress (MPa), per loaded fillet the recovered root stress (MPa)."""
+    the spin moments Mz, zero by the free spin), for a single pinion each moment's closed
+    form at the variant's own ZS, ZR (``<moment> closed form``: how much of the moment the
+    load's axial shift explains), per mesh K_Hbeta and the largest interior contact stress
+    (MPa), per loaded fillet the recovered root stress (MPa)."""
     kind = summary["inputs"]["gearset"]["kind"]
-    out: dict[str, float | None] = {
-        k: summary.get(k) for k in MEAN_KEYS[kind] if not k.startswith("Mz")
-    }
+    at_z = (summary.get("analytic") or {}).get("at_fe_ZS_ZR") or {}
+    out: dict[str, float | None] = {}
+    for k in MEAN_KEYS[kind]:
+        if not k.startswith("Mz"):
+            out[k] = summary.get(k)
+            if k in at_z:
+                out[k + CLOSED_FORM] = at_z[k]
     for mesh, c in (summary.get("contact_stress_cycle") or {}).items():
         out[f"K_Hbeta {mesh}"] = c.get("K_Hbeta")
         out[f"contact stress {mesh} (MPa)"] = c.get("interior_p_max_MPa")
@@ -305,19 +318,27 @@ def _plot(title: str, field: str, done: list[dict], names: list[str], path: Path
     x = [r["value"] for r in done] if numeric else list(range(len(done)))
     log = numeric and min(x, default=0) > 0 and max(x) >= 10 * min(x)
     cols = 3
-    n_rows = max(1, math.ceil(len(names) / cols))
+    panels = [q for q in names if not q.endswith(CLOSED_FORM)]  # a closed form: on its FE's
+    n_rows = max(1, math.ceil(len(panels) / cols))
     fig, axes = plt.subplots(n_rows, cols, figsize=(4.2 * cols, 2.8 * n_rows), squeeze=False)
-    for ax, q in zip(axes.flat, names, strict=False):
+
+    def curve(ax, q, style, label):
         y = [r["quantities"].get(q) for r in done]
         pts = [(a, b) for a, b in zip(x, y, strict=True) if b is not None]
-        ax.plot([a for a, _ in pts], [b for _, b in pts], "o-")
+        ax.plot([a for a, _ in pts], [b for _, b in pts], style, label=label)
+
+    for ax, q in zip(axes.flat, panels, strict=False):
+        curve(ax, q, "o-", "FE")
+        if q + CLOSED_FORM in names:
+            curve(ax, q + CLOSED_FORM, "k--", "closed form at the FE's ZS, ZR")
+            ax.legend(fontsize=7)
         ax.set_title(_with_unit(q), fontsize=9)
         if log:
             ax.set_xscale("log")
         if not numeric:
             ax.set_xticks(x, [r["label"] for r in done])
         ax.grid(alpha=0.3)
-    for ax in list(axes.flat)[len(names) :]:
+    for ax in list(axes.flat)[len(panels) :]:
         ax.set_visible(False)
     for ax in axes[-1]:
         ax.set_xlabel(field, fontsize=8)

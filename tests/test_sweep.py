@@ -21,7 +21,7 @@ from studies.files import read_json
 from studies.position import solve_position
 from studies.run import run_study
 from studies.settings import RunSettings
-from studies.sweep import main, parse_set, sweep_folder, sweep_record, variants
+from studies.sweep import CLOSED_FORM, main, parse_set, sweep_folder, sweep_record, variants
 
 QUICK = """name = "quick"
 gearset = "case1"
@@ -116,6 +116,9 @@ def test_a_sweep_equals_its_variants_run_one_by_one(tmp_path):
             assert v == pytest.approx(ref, rel=1e-8, abs=1e-9), q
         stress = row["quantities"]["root stress sun (MPa)"]
         assert stress == pytest.approx(alone["bending_stress_recovered"]["sun"], rel=1e-8)
+        # each moment's closed form at the variant's own centroids (singh2007 Table 7)
+        for k, v in alone["analytic"]["at_fe_ZS_ZR"].items():
+            assert row["quantities"][k + CLOSED_FORM] == pytest.approx(v, rel=1e-8), k
     # a summary an earlier sweep left (other inputs or code) is not read as this one's
     sw = parse_set("bearing.tilting_stiffness=8.8e7,8.8e8")
     files = [folder / r["case_file"] for r in record["variants"]]

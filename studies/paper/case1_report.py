@@ -7,7 +7,8 @@ run) and writes ``results/case1/report.md`` with: the FE means over the mesh pos
 analytical values (singh2007 Table 3 concentrated load, and Table 7 evaluated with each
 case's own ZS, ZR) and their differences; the plots ``moments_vs_tilt.png`` (My_pin and the
 LOA moments against the bearing tilting stiffness) and ``offsets_vs_tilt.png`` (ZS, ZR);
-and links to each case's contact-pattern panel.
+1-GB's moments over a sweep of its tilting stiffness where ``make case1-sweep`` has run
+(:mod:`studies.paper.tilt_sweep`); and links to each case's contact-pattern panel.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from postprocess.failed_positions import failed_positions_lines
 from postprocess.plus_minus import OFFSET_NOTE, plus_minus
 from postprocess.run_scalars import level_text
 from postprocess.stress_tables import contact_section, reported_root_stress, root_section
+from studies.paper.tilt_sweep import sweep_section
 
 CASES = ("1-GA", "1-GB", "1-GC", "1-GB-R")
 MOMENTS = ("Mx_pin", "My_pin", "M_LOA_sun", "M_LOA_ring")
@@ -130,6 +132,7 @@ def write_report(results: Path) -> Path:
         lines += ["", "## Discretisation error (convergence study)", "", *conv]
     lines += ["", "## Trends against the paper (section 7)", ""]
     lines += _trends(runs)
+    lines += ["", *sweep_section(results, out)]
     lines += [
         "",
         "## Plots",
