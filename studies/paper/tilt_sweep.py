@@ -58,7 +58,8 @@ def sweep_section(results: Path, report_dir: Path) -> list[str]:
     if missing:
         lines.append(f"No results for {', '.join(missing)} (see the sweep's own table).")
     rel = os.path.relpath(folder, report_dir)
-    lines += ["", f"![sweep]({rel}/sweep.png)", "", f"The sweep's own table: [sweep.md]({rel}/sweep.md)."]
+    lines += ["", f"![sweep]({rel}/sweep.png)", ""]
+    lines.append(f"The sweep's own table: [sweep.md]({rel}/sweep.md).")
     return lines
 
 
