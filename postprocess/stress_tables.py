@@ -286,8 +286,9 @@ def _root_differences(ratios: list[float], tang: list[float], s: dict) -> list[s
 def correction_note(runs: dict[str, dict]) -> list[str]:
     """Markdown lines on the zone model's body correction (solvers/contact.py eq. (6)): per
     run the largest clipped eigenvalue ratio over the positions (``contact_correction_
-    clipped``; 0: eq. (5) unchanged). None for runs without the entry (line grid, older
-    summaries)."""
+    clipped``; 0: eq. (5) unchanged) and what the clip moved, the largest over the positions
+    (``contact_correction_clip_effect``: load shares and the pinions' motion, where the
+    summary has it). None for runs without the entry (line grid, older summaries)."""
     got = {
         n: s["contact_correction_clipped"]
         for n, s in runs.items()
@@ -296,12 +297,25 @@ def correction_note(runs: dict[str, dict]) -> list[str]:
     if not got:
         return []
     vals = ", ".join(f"{n} {v:.2f}" for n, v in got.items())
-    return [
+    lines = [
         "Zone contact, FE body correction (solvers/contact.py eq. (6)): the negative part of",
         "its symmetric part, the mesh's discretisation error, is clipped so every tooth pair's",
         f"compliance block stays positive definite; largest clipped / kept eigenvalue: {vals}",
-        "(0: nothing clipped; on 1-GB the clip moved My_pin by 1e-5 at level 0, 3e-5 at level 1).",
+        "(0: nothing clipped).",
     ]
+    moved = {
+        n: runs[n]["contact_correction_clip_effect"]
+        for n in got
+        if runs[n].get("contact_correction_clip_effect") is not None
+    }
+    if moved:
+        lines += [
+            "What the clip moved (the load shares and the pinions' motion, to first order, the",
+            "largest over the positions; a run warns above 0.1 %): "
+            + ", ".join(f"{n} {v:.1e}" for n, v in moved.items())
+            + ".",
+        ]
+    return lines
 
 
 def contact_definition(runs: dict[str, dict]) -> list[str]:

@@ -243,6 +243,9 @@ def test_correction_note_reports_the_clipped_body_correction():
     }
     text = " ".join(correction_note(runs))
     assert "eigenvalue: 1-GA 0.06 (0: nothing" in text
+    assert "What the clip moved" not in text  # a summary from before the measure: no claim
+    runs["1-GA"]["contact_correction_clip_effect"] = 4.0e-6
+    assert "warns above 0.1 %): 1-GA 4.0e-06." in " ".join(correction_note(runs))
     assert correction_note({"x": {}}) == []
 
 
