@@ -389,7 +389,8 @@ def parse_study_case(
     mod = _section(data, "model", source)
     scene = mod.get("scene")
     if scene not in SCENES:
-        raise CaseError(f"{source}: model.scene = {scene!r}: must be one of {', '.join(SCENES)}")
+        given = "missing" if scene is None else f"= {scene!r}"
+        raise CaseError(f"{source}: model.scene {given}: must be one of {', '.join(SCENES)}")
     level = _integer(mod, "level", "model", source, 0, MAX_LEVEL)
     # another level's sizes; the level's own is no variant (L1P1 with flank_level 1 is L1P1)
     other = {k: _integer(mod, k, "model", source, 0, MAX_LEVEL) for k in VARIANT_FIELDS if k in mod}

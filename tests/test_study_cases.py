@@ -59,6 +59,13 @@ def test_missing_section():
         parse_study_case(data, "1-GB.toml")
 
 
+def test_a_missing_scene_is_named_missing():
+    data = copy.deepcopy(_raw())
+    del data["model"]["scene"]
+    with pytest.raises(CaseError, match=r"model.scene missing: must be one of one_branch"):
+        parse_study_case(data, "1-GB.toml")
+
+
 def test_unknown_case_lists_available():
     with pytest.raises(CaseError, match="available: 1-GA, 1-GB, 1-GB-R, 1-GC"):
         load_study_case("1-GZ")
