@@ -90,6 +90,22 @@ def test_the_largest_helix_angle_at_the_largest_spacing_solves(tmp_path):
     assert math.isfinite(summary["positions"][0]["My_pin"])
 
 
+def quick_case(tmp_path: Path, gearset: str, root_stress: str, edit=lambda text: text) -> Path:
+    """1-GB's case file as ``ends.toml`` in ``tmp_path``: on ``gearset`` (a path, or a name
+    in cases/gearsets/), level 0, one position, ``numerics.root_stress = root_stress``,
+    changed further by ``edit`` (text -> text)."""
+    text = Path(load_study_case("1-GB").path).read_text()
+    text = text.replace('name = "1-GB"', 'name = "ends"')
+    text = text.replace('gearset = "case1"', f'gearset = "{gearset}"')
+    text = re.sub(r"(?m)^level = 1.*", "level = 0", text)
+    text = re.sub(r"(?m)^(flank|fillet)_level = .*\n", "", text)
+    text = re.sub(r"(?m)^positions = .*", "positions = 1", text)
+    text = text.replace("[numerics]", f'[numerics]\nroot_stress = "{root_stress}"', 1)
+    case = tmp_path / "ends.toml"
+    case.write_text(edit(text))
+    return case
+
+
 #: each end of each bearing stiffness's accepted range (cases.study_case)
 BEARING_ENDS = [
     (name, value)
@@ -111,19 +127,15 @@ def test_a_bearing_at_either_end_of_its_ranges_solves(tmp_path, bearing_store, n
     studies.position), with finite moments; the radial floor is the softest needle bearing
     (below it the pinion floated past the largest zone band: refused,
     tests/test_trust_driver.py)."""
+
+    def bearing(text):
+        text = re.sub(rf"(?m)^{name} = .*", f"{name} = {value!r}", text)
+        if name == "axial_stiffness":  # 1-GB leaves it at its default
+            text = text.replace("[bearing]", f"[bearing]\naxial_stiffness = {value!r}", 1)
+        return text
+
     gearset = Path(load_study_case("1-GB").gearset.path).resolve()
-    text = Path(load_study_case("1-GB").path).read_text()
-    text = text.replace('name = "1-GB"', 'name = "ends"')
-    text = text.replace('gearset = "case1"', f'gearset = "{gearset}"')
-    text = re.sub(rf"(?m)^{name} = .*", f"{name} = {value!r}", text)
-    if name == "axial_stiffness":  # 1-GB leaves it at its default
-        text = text.replace("[bearing]", f"[bearing]\naxial_stiffness = {value!r}", 1)
-    text = re.sub(r"(?m)^level = 1.*", "level = 0", text)
-    text = re.sub(r"(?m)^(flank|fillet)_level = .*\n", "", text)
-    text = re.sub(r"(?m)^positions = .*", "positions = 1", text)
-    text = text.replace("[numerics]", '[numerics]\nroot_stress = "none"', 1)
-    case = tmp_path / "ends.toml"
-    case.write_text(text)
+    case = quick_case(tmp_path, str(gearset), "none", bearing)
     study = load_study_case(case)
     assert getattr(study.bearing, name) == value  # the end itself reached the solve
     quiet = Progress(out=io.StringIO(), err=io.StringIO(), quiet=True)
@@ -139,16 +151,7 @@ def gearset_case(tmp_path: Path, edit) -> Path:
     not what an end point tests)."""
     source = Path(load_study_case("1-GB").gearset.path).read_text()
     (tmp_path / "ends_set.toml").write_text(edit(source.replace('name = "case1"', 'name = "e"')))
-    text = Path(load_study_case("1-GB").path).read_text()
-    text = text.replace('name = "1-GB"', 'name = "ends"')
-    text = text.replace('gearset = "case1"', 'gearset = "ends_set.toml"')
-    text = re.sub(r"(?m)^level = 1.*", "level = 0", text)
-    text = re.sub(r"(?m)^(flank|fillet)_level = .*\n", "", text)
-    text = re.sub(r"(?m)^positions = .*", "positions = 1", text)
-    text = text.replace("[numerics]", '[numerics]\nroot_stress = "global"', 1)
-    case = tmp_path / "ends.toml"
-    case.write_text(text)
-    return case
+    return quick_case(tmp_path, "ends_set.toml", "global")
 
 
 def _solves(case: Path, tmp_path: Path) -> dict:
