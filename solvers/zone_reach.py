@@ -73,10 +73,10 @@ def check_zone_reach(grids: Iterable, result) -> dict[str, float]:
             fix = (
                 f"set [numerics] zone_gap_limit_um = {more:g}"
                 if more > limit_um
-                else "the largest zone_gap_limit_um does not hold it: the torque, the "
-                "flank modifications or a soft bearing (radial or tilting stiffness: the "
-                "pinion floats or tilts) move the flanks further than the zone grid can "
-                "represent"
+                else "the largest zone_gap_limit_um does not hold it: the torque (for the "
+                "gears' Young's modulus), the flank modifications or a soft bearing (radial "
+                "or tilting stiffness: the pinion floats or tilts) move the flanks further "
+                "than the zone grid can represent"
             )
             raise ZoneReachError(
                 f"contact grid '{name}': the load reaches cells whose unloaded gap is "
