@@ -124,7 +124,11 @@ CASE_FIELDS: dict[str, dict[str, FieldDoc]] = {
             "number", "MPa", _range("material.youngs_modulus"), "Young's modulus of every body."
         ),
         "poisson_ratio": FieldDoc(
-            "number", "", _range("material.poisson_ratio"), "Poisson's ratio of every body."
+            "number",
+            "",
+            _range("material.poisson_ratio"),
+            "Poisson's ratio of every body. Above 0.45 set `numerics.degree = 2`: "
+            "linear tetrahedra lock as it nears 0.5 (the run warns).",
         ),
         "gear_modulus_factor": FieldDoc(
             "number",

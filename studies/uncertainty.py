@@ -54,8 +54,10 @@ def match_key(study: StudyCase) -> dict:
     resolved data, scene, contact model (with its gap limit), penalty factor, contact grid
     spacing, the bodies' linear solver (with its tolerance), the root fillets (refined
     fillets make the teeth more compliant: a coarse-fillet run is not the refined study's) and
-    where the root stress is read (submodel or global fillets). The gap limit is recorded but
-    not compared (:data:`ANSWER_FREE`)."""
+    where the root stress is read (submodel or global fillets), and the Poisson ratio
+    (linear tetrahedra lock as it nears 0.5: on 1-GB at level 0 P1 and P2 differ by 1.7 % of
+    My_pin at 0.3 and 4.3 % at 0.49, so a study at one does not hold the other's error). The
+    gap limit is recorded but not compared (:data:`ANSWER_FREE`)."""
     gearset = study_inputs(study)["gearset"]
     text = json.dumps(gearset, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return {
@@ -70,6 +72,7 @@ def match_key(study: StudyCase) -> dict:
         "linear_tolerance": study.numerics.linear_tolerance,
         "root_fillets": study.numerics.root_fillets,
         "root_stress": study.numerics.root_stress,
+        "poisson_ratio": study.material.poisson_ratio,
     }
 
 
@@ -78,6 +81,9 @@ def match_key(study: StudyCase) -> dict:
 #: reach check (solvers.zone_reach: the load stays inside half the band; doubling the limit
 #: then moves the moments by < 1e-4, tests/test_microgeometry.py)
 ANSWER_FREE = ("zone_gap_limit_um",)
+#: match-key fields added after studies were written without them, at the value every such
+#: study was solved with (the shipped cases' steel, cases.study_case.Material)
+KEY_ADDED = {"poisson_ratio": 0.3}
 
 
 def same_match(a, b) -> bool:
@@ -85,6 +91,7 @@ def same_match(a, b) -> bool:
     if not isinstance(a, dict) or not isinstance(b, dict):
         return False
     drop = set(ANSWER_FREE)
+    a, b = {**KEY_ADDED, **a}, {**KEY_ADDED, **b}
     return {k: v for k, v in a.items() if k not in drop} == {
         k: v for k, v in b.items() if k not in drop
     }
