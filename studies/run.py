@@ -85,6 +85,7 @@ from studies.cli import (
 )
 from studies.contact_size import check_contact_size
 from studies.files import ResultFileError, on_root, read_json, write_json
+from studies.mesh_deflection import check_mesh_deflection
 from studies.plausibility import input_warnings, plausibility_warnings
 from studies.position import (
     check_coast_backlash,
@@ -234,6 +235,7 @@ def prepare_study(
     check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
     check_coast_backlash(study, scene)  # a set whose modifications eat its backlash
     check_contact_size(study, settings.spacing, scene, comm)  # a grid no machine here holds
+    check_mesh_deflection(study)  # a load no zone band holds
     return study, settings, out
 
 
