@@ -236,7 +236,9 @@ CASE_FIELDS: dict[str, dict[str, FieldDoc]] = {
             "number",
             "",
             _interval(*sc.LINEAR_TOLERANCE_RANGE),
-            'BLR dropping threshold or CG relative residual; not for `"mumps"`.',
+            "BLR dropping threshold (at most "
+            f"{sc.BLR_TOLERANCE_MAX:g}: its factors serve as an exact solve) or CG "
+            'relative residual; not for `"mumps"`.',
             "the solver's (1e-6 BLR, 1e-8 CG)",
         ),
         "out_of_core": FieldDoc(

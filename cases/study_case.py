@@ -60,6 +60,9 @@ ROOT_FILLETS = ("auto", "refined", "coarse")
 # only); "none" = not read (studies of moments or stiffness alone).
 ROOT_STRESS_METHODS = ("submodel", "global", "none")
 LINEAR_TOLERANCE_RANGE = (1e-14, 1e-3)  # inclusive; BLR threshold or CG relative residual
+# the largest BLR dropping threshold: its factors are used as an exact solve (no refinement);
+# 1-GB at level 0 moved Mx_pin by 1e-4 of itself at 1e-5 and 1e-4, by 4 % at 1e-3
+BLR_TOLERANCE_MAX = 1e-4
 
 
 def _real(value) -> bool:
@@ -211,6 +214,12 @@ class Numerics:
                 raise CaseError(
                     f"numerics.linear_tolerance = {t!r}: must be a number in [{lo:g}, {hi:g}], "
                     "or omitted for the solver's default"
+                )
+            if self.linear_solver == "mumps-blr" and t > BLR_TOLERANCE_MAX:
+                raise CaseError(
+                    f"numerics.linear_tolerance = {t!r}: linear_solver 'mumps-blr' drops "
+                    f"low-rank blocks below it, used as an exact solve: at most "
+                    f"{BLR_TOLERANCE_MAX:g} (1e-3 moved 1-GB's Mx_pin by 4 % at level 0)"
                 )
             object.__setattr__(self, "linear_tolerance", float(t))
         if not isinstance(self.out_of_core, bool):

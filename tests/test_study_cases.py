@@ -76,3 +76,19 @@ def test_toml_syntax_error_names_the_file(tmp_path):
     bad.write_text('name = "x"\n[bearing\n')
     with pytest.raises(CaseError, match=r"broken\.toml: not valid TOML"):
         load_study_case(bad)
+
+
+def test_a_coarse_low_rank_threshold_is_refused():
+    """mumps-blr's factors serve as an exact solve: a dropping threshold of 1e-3 moved 1-GB's
+    Mx_pin by 4 % at level 0 (1e-4: by 1e-4 of itself), so at most BLR_TOLERANCE_MAX; CG
+    takes the whole range (its residual is checked, not assumed)."""
+    from cases.study_case import BLR_TOLERANCE_MAX, LINEAR_TOLERANCE_RANGE
+
+    data = copy.deepcopy(_raw())
+    data["numerics"] |= {"linear_solver": "mumps-blr", "linear_tolerance": 1e-3}
+    with pytest.raises(CaseError, match=r"linear_tolerance = 0.001: .*at most 0.0001"):
+        parse_study_case(data, "1-GB.toml")
+    data["numerics"]["linear_tolerance"] = BLR_TOLERANCE_MAX
+    parse_study_case(data, "1-GB.toml")
+    data["numerics"] |= {"linear_solver": "cg-gamg", "linear_tolerance": LINEAR_TOLERANCE_RANGE[1]}
+    parse_study_case(data, "1-GB.toml")

@@ -1,4 +1,4 @@
-"""A Poisson ratio near 0.5 on linear elements: the run warns (P1 tetrahedra lock), and a
+"""A Poisson ratio near 0.5 on linear elements or a soft line-grid penalty: the run warns; a
 case of another Poisson ratio does not take the ± of a convergence study solved at steel's."""
 
 from dataclasses import replace
@@ -35,3 +35,19 @@ def test_a_case_of_another_poisson_ratio_takes_no_steel_study():
     assert same_match(old, match_key(study))
     assert not same_match(old, match_key(_with(study, nu=0.45)))
     assert same_match(match_key(_with(study, nu=0.45)), match_key(_with(study, nu=0.45)))
+
+
+def test_a_soft_penalty_on_the_line_grid_warns():
+    """A line grid at penalty factor 1: measured My_pin 5 % above its factor-1e6 value on
+    1-GB at level 0 (studies.plausibility.PENALTY_FACTOR_USUAL); the zone grid's contact is
+    exact and takes no warning."""
+    study = load_study_case("1-GB")
+    line = replace(
+        study, numerics=replace(study.numerics, contact_model="line", penalty_factor=1.0)
+    )
+    (w,) = [w for w in input_warnings(line) if "penalty" in w]
+    assert "numerics.penalty_factor = 1 on the line grid" in w
+    zone = replace(study, numerics=replace(study.numerics, penalty_factor=1.0))
+    assert not any("penalty" in w for w in input_warnings(zone))
+    usual = replace(line, numerics=replace(line.numerics, penalty_factor=10.0))
+    assert not any("penalty" in w for w in input_warnings(usual))
