@@ -405,11 +405,12 @@ class ContactProblem:
         system of the converged active set ``idx`` (matrix ``M``, right-hand side ``rhs``)
         solved again with each tooth pair's correction as the FE gave it (the clip taken
         back out of its active block). Returns ``(effect, redistribution)``: ``effect`` the
-        larger of the relative changes of each pair's resultant force (the load shares) and
-        of the free rigid unknowns, max_j |dr_j| / max_k |r_k| over the unknowns of the same
-        body and kind (translation or rotation: a bearing moment is a tilt times a
-        stiffness, a centroid follows the moments); ``redistribution`` the change of the cell
-        forces, ||dF||_1 / ||F||_1, which also holds their shift between neighbouring cells.
+        larger of the change of each pair's resultant force over the largest pair's (the
+        load shares) and the relative change of the free rigid unknowns, max_j |dr_j| /
+        max_k |r_k| over the unknowns of the same body and kind (translation or rotation: a
+        bearing moment is a tilt times a stiffness, a centroid follows the moments);
+        ``redistribution`` the change of the cell forces, ||dF||_1 / ||F||_1, which also holds
+        their shift between neighbouring cells.
         (0, 0) where nothing was clipped; inf where the unclipped system is singular. The
         active set is kept, so a clip that would change which cells touch is seen only
         through the forces it moves."""
@@ -438,12 +439,12 @@ class ContactProblem:
             else:
                 F_u = np.zeros(self.n)
                 F_u[idx] = sol[:nA]
-                moved = 0.0
-                for i in range(len(self.pairs)):
-                    sl = slice(self.offsets[i], self.offsets[i + 1])
-                    total = F[sl].sum()
-                    if total > 0:
-                        moved = max(moved, abs(F_u[sl].sum() - total) / total)
+                sl = [slice(self.offsets[i], self.offsets[i + 1]) for i in range(len(self.pairs))]
+                totals = np.array([F[s].sum() for s in sl])
+                shifts = np.array([abs(F_u[s].sum() - F[s].sum()) for s in sl])
+                # against the largest pair's load: a lightly loaded coast pair's own share
+                # would read a tiny shift as a large one
+                moved = float(shifts.max() / max(totals.max(), 1e-300))
                 for j, v in zip(free, sol[nA:], strict=True):
                     ru = self.rigid_unknowns[j]
                     scale = max(

@@ -27,7 +27,9 @@ def test_the_clip_effect_bounds_what_the_projection_moves(monkeypatch):
     clip; measured: My_pin 2.04e-5 against an effect of 2.04e-5, the small Mx_pin 2.1e-4 of
     its own value, which the effect scales by the largest tilt of the pinion, 2.04e-5 of it).
     The bound holds with 1.5x for the active set's change without the clip, and the effect
-    is below the warning's 0.1 % on a shipped case."""
+    is below the warning's 0.1 % on a shipped case. Nor does it overstate by more than 10x:
+    a lightly loaded coast pair measured against its own load read 9.6e-4, 47x what the
+    moments moved, and would have warned at level 1 for nothing."""
     study = no_root_stress(load_study_case("1-GC"))
     clipped = solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0))
     t = clipped["timings"]
@@ -36,9 +38,10 @@ def test_the_clip_effect_bounds_what_the_projection_moves(monkeypatch):
     raw = solve_position(study, 0.0, MPI.COMM_SELF, RunSettings(level=0))
     assert raw["timings"]["correction_clip_effect"] == 0.0  # nothing clipped, nothing moved
     scale = max(abs(clipped[k]) for k in ("My_pin", "Mx_pin"))  # the pinion's tilts
-    for key in ("My_pin", "Mx_pin"):
-        moved = abs(raw[key] - clipped[key]) / scale
-        assert moved <= 1.5 * t["correction_clip_effect"], (key, moved)
+    moved = {k: abs(raw[k] - clipped[k]) / scale for k in ("My_pin", "Mx_pin")}
+    for key, m in moved.items():
+        assert m <= 1.5 * t["correction_clip_effect"], (key, m)
+    assert t["correction_clip_effect"] <= 10 * max(moved.values()), moved
 
 
 def test_a_clip_that_moves_the_results_beyond_the_limit_warns():
