@@ -18,6 +18,11 @@ from meshing.sizing import MeshingError
 MIN_SECTIONS = 5  # the feasibility probe: 3 sections deviate 0.64 mm, 5+ sections < 1 um
 
 
+#: the thinnest rim a body keeps between its root circle and its bore (or outer rim), in
+#: normal modules
+RIM_MODULES = 1.0
+
+
 @dataclass(frozen=True)
 class GearBody:
     """What to build: a gear (GearSpec), which teeth, and the bore or rim.
@@ -109,20 +114,20 @@ class GearBody:
         if g.internal:
             if self.inner_radius is not None:
                 raise MeshingError(f"{self.body}: inner_radius: an internal gear has no bore")
-            lo = g.root_radius + 1.0 * m
+            lo = g.root_radius + RIM_MODULES * m
             if self.outer_radius is None or not self.outer_radius >= lo:
                 raise MeshingError(
                     f"{self.body}: outer_radius = {self.outer_radius!r}: the rim radius of an "
-                    f"internal gear must be >= root radius + 1 module = {lo:.3f} mm"
+                    f"internal gear must be >= root radius + {RIM_MODULES:g} module = {lo:.3f} mm"
                 )
         else:
             if self.outer_radius is not None:
                 raise MeshingError(f"{self.body}: outer_radius: only for internal gears")
-            hi = g.root_radius - 1.0 * m
+            hi = g.root_radius - RIM_MODULES * m
             if self.inner_radius is None or not 0.0 < self.inner_radius <= hi:
                 raise MeshingError(
                     f"{self.body}: inner_radius = {self.inner_radius!r}: the bore radius must "
-                    f"be > 0 and <= root radius - 1 module = {hi:.3f} mm"
+                    f"be > 0 and <= root radius - {RIM_MODULES:g} module = {hi:.3f} mm"
                 )
 
     def params(self) -> dict:

@@ -36,7 +36,7 @@ from gears.analytic.phasing import assemblable_angles, planet_layout
 from gears.layout import pinion_centres
 from meshing.assemble import Placement
 from meshing.carrier import carrier_spec
-from meshing.gear_body import GearBody
+from meshing.gear_body import RIM_MODULES, GearBody
 from meshing.mesh_zones import (
     MeshZone,
     PlacedGear,
@@ -80,14 +80,14 @@ def pinion_bore_radius(pin_diameter: float = PIN_DIAMETER) -> float:
 
 def _check_bores(gearset, sun_bore: float, pin_bore: float, pin_diameter: float) -> None:
     """MeshingError, in a gear engineer's terms, for a gear whose bore does not fit under its
-    root circle with a rim of a module (:meth:`meshing.gear_body.GearBody.validate`): a
+    root circle with a rim of RIM_MODULES (:meth:`meshing.gear_body.GearBody.validate`): a
     planet too small for the pin and its needle bearing, a sun too small for a rim of
     SUN_RIM_MODULES modules. A gear-set file cannot set either bore."""
     path = gearset.power_path
     for name in path[:-1]:
         g = gearset.gears[name]
         bore = sun_bore if name == path[0] else pin_bore
-        need = bore + g.normal_module
+        need = bore + RIM_MODULES * g.normal_module
         if 0.0 < bore and g.root_radius >= need:
             continue
         if name == path[0]:
@@ -95,7 +95,8 @@ def _check_bores(gearset, sun_bore: float, pin_bore: float, pin_diameter: float)
         else:
             why = (
                 f"its pin ({pin_diameter:g} mm) and needle bearing ({NEEDLE_DIAMETER:g} mm "
-                f"needles): a bore of {bore:g} mm radius and a rim of 1 normal module, so a "
+                f"needles): a bore of {bore:g} mm radius and a rim of {RIM_MODULES:g} normal "
+                "module, so a "
                 f"root radius of at least {need:.3f} mm"
             )
         raise MeshingError(

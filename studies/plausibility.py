@@ -79,7 +79,8 @@ MODIFICATION_USUAL_UM = 100.0
 
 def input_warnings(study) -> list[str]:
     """Warnings for inputs outside the range seen in practice (module docstring): the
-    length the bearing's two stiffnesses imply, the torque and the flank modifications."""
+    length the bearing's two stiffnesses imply, the torque, the flank modifications, a
+    Poisson ratio linear elements lock at and a line grid's soft penalty."""
     return (
         _bearing_warnings(study)
         + _torque_warnings(study)

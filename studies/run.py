@@ -230,6 +230,10 @@ def prepare_study(
     out = _output_folder(study, out_root)
     try:  # the scene is pure geometry (milliseconds): a gear set it cannot place is input
         scene = study_scene(study, 0.0)
+        for g in scene.gears:  # what the mesher would refuse (bores, rims, sectors)
+            g.body.validate()
+        if scene.carrier is not None:
+            scene.carrier.validate()
     except INPUT_ERRORS as exc:
         raise InputError(f"{study.name}: model.scene = {study.model.scene!r}: {exc}") from exc
     check_root_stress(study, scene)  # before any position: a setting the scene cannot serve
